@@ -1,0 +1,34 @@
+// Helpers shared by the test programs.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace btf::test {
+
+// A fresh empty folder for one test, removed when the object goes out of scope.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct CommandResult {
+  int exit_code = -1;  // the process's exit status; 128 + signal number when killed by a signal
+  std::string output;  // stdout and stderr together
+};
+// Runs a program with arguments (through /bin/sh, every argument quoted), capturing its output.
+CommandResult runCommand(const std::string& program, const std::vector<std::string>& args);
+
+// ../shared/data/real, as configured at build time.
+std::filesystem::path sharedDataDir();
+
+}  // namespace btf::test

@@ -1,0 +1,14 @@
+// The subcommands of `btf`, one source file each. Every register function adds its subcommand to
+// the app; the callbacks throw btf::Error (or CLI11 errors) and main turns them into messages.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace btf::cli {
+
+void registerInfoCommand(CLI::App& app);
+void registerEvalCommand(CLI::App& app);
+void registerConvertCommand(CLI::App& app);
+void registerPlotCommand(CLI::App& app);
+
+}  // namespace btf::cli

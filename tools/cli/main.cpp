@@ -1,0 +1,27 @@
+// `btf`: inspect, evaluate, convert and plot measured materials.
+#include <cstdio>
+#include <exception>
+
+#include "btf/core/error.h"
+#include "commands.h"
+#include "terminal.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot)", "btf"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "btf 0.1.0");
+  btf::cli::registerInfoCommand(app);
+  btf::cli::registerEvalCommand(app);
+  btf::cli::registerConvertCommand(app);
+  btf::cli::registerPlotCommand(app);
+  btf::cli::installTerminalHooks();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "btf: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
