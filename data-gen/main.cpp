@@ -1,1 +1,183 @@
-int main(){}
+// `btf-datagen`: synthetic MERL tables from analytic models, with the artifacts of real
+// measurements, deterministic from a seed.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+#include "btf/io/merl.h"
+#include "btf/material/albedo.h"
+#include "btf/material/tabulated_brdf.h"
+#include "acquisition_response.h"
+#include "presets.h"
+#include "table_artifacts.h"
+#include "../tools/cli/terminal.h"
+
+namespace btf::datagen {
+namespace {
+
+// The incidence angles `btf info` reports, so its output can be compared line by line.
+constexpr float kAlbedoAnglesDeg[] = {0.0f, 30.0f, 60.0f, 75.0f};
+
+struct Options {
+  std::string preset;
+  std::string output;
+  std::uint64_t seed = 1;
+  TableArtifacts artifacts{0.03f, 0.005f, 2.0f};
+  float falloff = 0.2f;
+  std::vector<float> tint{1.0f, 1.0f, 1.0f};
+  bool clean = false;
+  bool list = false;
+  bool json = false;
+  std::vector<float> eval_angles_deg;
+};
+
+nlohmann::json rgbJson(const Rgb& c) { return {c.r, c.g, c.b}; }
+
+float radians(float degrees) { return degrees * kPi / 180.0f; }
+
+void listPresets(bool json) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Preset& p : presets()) {
+    const Rgb albedo = integrateAlbedoHalfVector(*p.make(), 0.0f);
+    if (json) {
+      out.push_back({{"name", p.name}, {"description", p.description}, {"albedo_normal", rgbJson(albedo)}});
+    } else {
+      std::printf("%-20s albedo(0 deg) %.3f %.3f %.3f  %s\n", p.name.c_str(), albedo.r, albedo.g, albedo.b,
+                  p.description.c_str());
+    }
+  }
+  if (json) std::cout << out.dump(2) << "\n";
+}
+
+// The analytic material with the acquisition response that the generated table is sampled from.
+std::shared_ptr<const Material> measuredLook(const Options& o) {
+  const Rgb tint(o.tint[0], o.tint[1], o.tint[2]);
+  return std::make_shared<AcquisitionResponse>(findPreset(o.preset).make(), tint, o.falloff, o.preset);
+}
+
+void printAnalyticValue(const Options& o) {
+  const auto& a = o.eval_angles_deg;
+  const glm::vec3 wi = sphericalDirection(radians(a[0]), radians(a[1]));
+  const glm::vec3 wo = sphericalDirection(radians(a[2]), radians(a[3]));
+  const Rgb f = measuredLook(o)->eval(wi, wo);
+  if (o.json) std::cout << nlohmann::json{{"preset", o.preset}, {"f", rgbJson(f)}}.dump(2) << "\n";
+  else std::printf("%s f = %.6g %.6g %.6g (1/sr)\n", o.preset.c_str(), f.r, f.g, f.b);
+}
+
+void generate(const Options& o) {
+  const std::filesystem::path output = o.output;
+  if (output.extension() != ".binary")
+    throw FileError(output, "unknown output extension '" + output.extension().string() +
+                                "' (btf-datagen writes MERL tables: use .binary)");
+  // Fail before the work, not after it, when the table could not be written anyway.
+  const std::filesystem::path folder = output.has_parent_path() ? output.parent_path() : ".";
+  if (!std::filesystem::is_directory(folder)) throw FileError(output, "folder " + folder.string() + " does not exist");
+  if (std::filesystem::is_directory(output)) throw FileError(output, "is a directory, expected a file name to write");
+  const std::shared_ptr<const Material> material = measuredLook(o);
+  MerlTable table = tabulate(*material);
+  applyArtifacts(table, o.artifacts, o.seed);
+  writeMerl(output, table);
+
+  std::size_t unmeasured = 0;
+  for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; ++i) unmeasured += !table.isMeasured(i);
+  const double percent = 100.0 * double(unmeasured) / double(MerlTable::kEntriesPerChannel);
+
+  nlohmann::json expected = nlohmann::json::array();
+  for (float deg : kAlbedoAnglesDeg)
+    expected.push_back({{"theta_o_deg", deg}, {"rgb", rgbJson(integrateAlbedoHalfVector(*material, radians(deg)))}});
+
+  if (o.json) {
+    std::cout << nlohmann::json{{"preset", o.preset},
+                                {"output", o.output},
+                                {"seed", o.seed},
+                                {"clean", o.clean},
+                                {"noise", o.artifacts.noise_sigma},
+                                {"holes", o.artifacts.hole_fraction},
+                                {"grazing_gap_deg", o.artifacts.grazing_gap_degrees},
+                                {"falloff", o.falloff},
+                                {"tint", o.tint},
+                                {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
+                                {"expected_albedo", expected}}
+                     .dump(2)
+              << "\n";
+    return;
+  }
+  std::printf("wrote %s: preset %s, seed %llu\n", o.output.c_str(), o.preset.c_str(), (unsigned long long)o.seed);
+  if (o.clean) {
+    std::printf("  effects: none (--clean)\n");
+  } else {
+    std::printf("  effects: noise %g, holes %g%%, grazing gap %g deg, falloff %g, tint %g,%g,%g\n",
+                o.artifacts.noise_sigma, 100.0 * o.artifacts.hole_fraction, o.artifacts.grazing_gap_degrees,
+                o.falloff, o.tint[0], o.tint[1], o.tint[2]);
+  }
+  std::printf("  unmeasured: %zu of %zu cells (%.2f%%, incl. cells below the horizon)\n", unmeasured,
+              MerlTable::kEntriesPerChannel, percent);
+  std::printf("  expected albedo (analytic, with tint and falloff):\n");
+  for (const auto& e : expected) {
+    std::printf("    theta_o %2.0f deg: %.4f %.4f %.4f\n", e["theta_o_deg"].get<float>(), e["rgb"][0].get<float>(),
+                e["rgb"][1].get<float>(), e["rgb"][2].get<float>());
+  }
+}
+
+void run(Options& o) {
+  if (o.list) return listPresets(o.json);
+  if (o.preset.empty()) throw Error("choose a material with --preset NAME (see --list-presets)");
+  findPreset(o.preset);  // fail on a typo before any work
+  if (o.clean) {
+    o.artifacts = TableArtifacts{};
+    o.falloff = 0.0f;
+    o.tint = {1.0f, 1.0f, 1.0f};
+  }
+  if (!o.eval_angles_deg.empty()) return printAnalyticValue(o);
+  if (o.output.empty()) throw Error("name the output table with -o FILE.binary");
+  generate(o);
+}
+
+}  // namespace
+}  // namespace btf::datagen
+
+int main(int argc, char** argv) {
+  using btf::datagen::Options;
+  Options o;
+  CLI::App app{"btf-datagen: synthetic measured BRDFs in the MERL .binary format.\n"
+               "Tabulates an analytic preset with what real measurements have (tint, grazing falloff,\n"
+               "multiplicative noise, unmeasured holes), deterministic from --seed.",
+               "btf-datagen"};
+  app.add_flag("--list-presets", o.list, "List the presets with their analytic albedo at normal incidence");
+  app.add_option("--preset", o.preset, "Material preset (see --list-presets)");
+  app.add_option("-o,--output", o.output, "Output MERL table (.binary)");
+  app.add_option("--seed", o.seed, "Seed of the noise and holes")->capture_default_str();
+  auto* noise = app.add_option("--noise", o.artifacts.noise_sigma, "Sigma of the lognormal multiplicative noise (mean 1)")
+                    ->check(CLI::Range(0.0f, 2.0f))->capture_default_str();
+  auto* holes = app.add_option("--holes", o.artifacts.hole_fraction, "Fraction of cells dropped at random")
+                    ->check(CLI::Range(0.0f, 0.99f))->capture_default_str();
+  auto* gap = app.add_option("--grazing-gap", o.artifacts.grazing_gap_degrees,
+                             "Degrees above the horizon that light and view cannot reach (unmeasured)")
+                  ->check(CLI::Range(0.0f, 89.0f))->capture_default_str();
+  auto* falloff = app.add_option("--falloff", o.falloff, "Signal lost at the horizon: f *= 1 - falloff*(theta/90)^8 per direction")
+                      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+  auto* tint = app.add_option("--tint", o.tint, "Colour response r,g,b multiplying f")
+                   ->expected(3)->delimiter(',')->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_flag("--clean", o.clean, "No measurement effects: the exact analytic table")
+      ->excludes(noise)->excludes(holes)->excludes(gap)->excludes(falloff)->excludes(tint);
+  app.add_option("--eval", o.eval_angles_deg,
+                 "Print the analytic f (with tint and falloff) at THETA_I PHI_I THETA_O PHI_O degrees; writes nothing")
+      ->expected(4);
+  app.add_flag("--json", o.json, "Machine-readable output");
+  btf::cli::installTerminalHooks();
+  try {
+    app.parse(argc, argv);
+    btf::datagen::run(o);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "btf-datagen: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

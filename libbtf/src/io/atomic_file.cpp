@@ -13,10 +13,17 @@ namespace {
 
 fs::path temporaryPathFor(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
+  // Hidden, unique per process and call, and with the extension last: image writers choose the
+  // format from it. (Built with append: GCC 12 warns falsely on `"." + std::string`.)
+  std::string name(".");
+  name.append(path.stem().string())
+      .append(".tmp")
+      .append(std::to_string(::getpid()))
+      .append("-")
+      .append(std::to_string(counter++))
+      .append(path.extension().string());
   fs::path tmp = path;
-  // Keep the extension last: image writers choose the format from it.
-  tmp.replace_filename("." + path.stem().string() + ".tmp" + std::to_string(::getpid()) + "-" +
-                       std::to_string(counter++) + path.extension().string());
+  tmp.replace_filename(name);
   return tmp;
 }
 

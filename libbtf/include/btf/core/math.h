@@ -29,8 +29,9 @@ inline glm::vec3 sphericalDirection(float theta, float phi) {
   const float sin_theta = std::sin(theta);
   return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::cos(theta)};
 }
-// Polar angle in [0, pi] of a unit vector.
-inline float sphericalTheta(const glm::vec3& w) { return safeAcos(w.z); }
+// Polar angle in [0, pi] of a vector; atan2 rather than acos, which loses half the digits near
+// the pole.
+inline float sphericalTheta(const glm::vec3& w) { return std::atan2(std::hypot(w.x, w.y), w.z); }
 // Azimuth in [0, 2 pi) of a vector.
 inline float sphericalPhi(const glm::vec3& w) {
   const float phi = std::atan2(w.y, w.x);

@@ -2,16 +2,20 @@
 //
 // Policies (documented in the README as well):
 // - Below the horizon (wi.z <= 0 or wo.z <= 0): eval returns 0.
+// - Table samples sit at integer table coordinates (MerlTable::thetaHalfOf etc.). Nearest lookup
+//   rounds the continuous coordinates to the closest sample (not MERL's truncation, which is half a
+//   cell off for samples placed at cell edges); Interpolated lookup is trilinear in the coordinates
+//   (theta_h through its sqrt mapping; phi_d periodic with period pi by reciprocity; theta
+//   coordinates beyond the last sample take its value).
 // - Unmeasured samples (negative in any channel) never contribute. Nearest lookup returns the
-//   nearest measured sample along phi_d, then theta_d (searching outwards); Interpolated lookup
-//   blends only the measured corners of the cell and renormalizes their weights. A cell with no
-//   measured corner falls back to the nearest-lookup rule. Only a table with no measured sample at
-//   all evaluates to 0.
+//   nearest measured sample along phi_d, then theta_d, then theta_h (searching outwards, ties to
+//   the lower index); Interpolated lookup blends only the measured corners of the cell and
+//   renormalizes their weights. A cell with no measured corner (of nonzero weight) falls back to
+//   the nearest-lookup rule. Only a table with no measured sample at all evaluates to 0.
 // - sample()/pdf() draw cosine-weighted directions (an exact density); the tabulated samplers of
 //   the sampling module do better.
 #pragma once
 
-#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -35,15 +39,27 @@ class TabulatedBrdf final : public Material {
   TableLookup lookup() const { return lookup_; }
 
  private:
+  // One table cell as eval reads it: 16 bytes, RGB interleaved, so an interpolated lookup touches
+  // a few cache lines instead of 3 channel planes of doubles.
+  struct Cell {
+    Rgb f;           // f (1/sr) of the cell if measured, else of the measured cell nearest lookup uses
+    float measured;  // 1 if the cell itself is measured, else 0 (its weight in interpolation)
+  };
+
+  Rgb evalNearest(float u_h, float u_d, float u_p) const;
+  Rgb evalInterpolated(float u_h, float u_d, float u_p) const;
+
   std::shared_ptr<const MerlTable> table_;
   TableLookup lookup_;
-  // Filled at construction: for each cell, the index of the measured cell that nearest lookup
-  // uses (itself when measured); -1 if the table has no measured cell.
-  std::vector<std::int32_t> nearest_measured_;
+  // Filled at construction from table_ (zero everywhere if the table has no measured cell).
+  std::vector<Cell> cells_;
 };
 
 // Tabulates any isotropic material into the MERL layout by evaluating it at each cell's angles
-// (phi_h = 0). Parallel over theta_h rows; the result does not depend on the thread count.
+// (phi_h = 0). Cells whose sample directions lie below the horizon (wi.z <= 0 or wo.z <= 0) hold
+// nothing measurable and are marked unmeasured, so interpolation near grazing angles blends only
+// valid samples instead of zeros. Parallel over theta_h rows; the result does not depend on the
+// thread count.
 MerlTable tabulate(const Material& material);
 
 }  // namespace btf

@@ -1,0 +1,64 @@
+#include "table_artifacts.h"
+
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "btf/core/half_diff.h"
+#include "btf/core/math.h"
+#include "btf/core/progress.h"
+#include "btf/core/rng.h"
+
+namespace btf::datagen {
+namespace {
+
+// Standard normal deviate by Box-Muller; 1 - u keeps the logarithm finite.
+float standardNormal(Rng& rng) {
+  const float u1 = 1.0f - rng.uniform();
+  const float u2 = rng.uniform();
+  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
+}
+
+// Largest polar angle of the light and view directions a cell stands for.
+float steepestTheta(int theta_h, int theta_d, int phi_d) {
+  HalfDiff hd;
+  hd.theta_h = float(MerlTable::thetaHalfOf(theta_h));
+  hd.theta_d = float(MerlTable::thetaDiffOf(theta_d));
+  hd.phi_d = float(MerlTable::phiDiffOf(phi_d));
+  const DirectionPair pair = fromHalfDiff(hd);
+  return std::max(sphericalTheta(pair.wi), sphericalTheta(pair.wo));
+}
+
+}  // namespace
+
+std::size_t applyArtifacts(MerlTable& table, const TableArtifacts& artifacts, std::uint64_t seed) {
+  const float grazing_limit = (90.0f - artifacts.grazing_gap_degrees) * kPi / 180.0f;
+  const float sigma = artifacts.noise_sigma;
+  std::atomic<std::size_t> holes{0};
+  Progress progress("measurement artifacts", MerlTable::kThetaHalfRes);
+  tbb::parallel_for(0, MerlTable::kThetaHalfRes, [&](int th) {
+    std::size_t row_holes = 0;
+    for (int td = 0; td < MerlTable::kThetaDiffRes; ++td) {
+      for (int pd = 0; pd < MerlTable::kPhiDiffRes; ++pd) {
+        const std::size_t i = MerlTable::index(th, td, pd);
+        if (!table.isMeasured(i)) continue;
+        Rng rng(seed, i);
+        const bool dropped = rng.uniform() < artifacts.hole_fraction ||
+                             (artifacts.grazing_gap_degrees > 0 && steepestTheta(th, td, pd) > grazing_limit);
+        if (dropped) {
+          table.setUnmeasured(i);
+          ++row_holes;
+          continue;
+        }
+        if (sigma <= 0) continue;
+        for (int c = 0; c < 3; ++c) table.raw(c, i) *= std::exp(sigma * standardNormal(rng) - 0.5f * sigma * sigma);
+      }
+    }
+    holes += row_holes;
+    progress.advance();
+  });
+  return holes;
+}
+
+}  // namespace btf::datagen

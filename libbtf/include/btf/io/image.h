@@ -1,0 +1,66 @@
+// Float images and their files (OpenImageIO behind the scenes; it stays out of this header).
+//
+// - EXR holds linear float data exactly (32-bit float channels).
+// - PNG holds 8-bit data: values are clamped to [0, 1] and quantized as they are, so the caller
+//   tone-maps and encodes first (toneMapToSrgb).
+// - A "stack" is a multi-part EXR: several images of any size in one file, each with a name and
+//   header attributes (used by `btf convert` for MERL half/diff slices).
+// Every write is atomic (temporary file beside the destination, then rename). Every error is a
+// FileError naming the file and the problem.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace btf {
+
+// Interleaved channels, rows top to bottom, pixels left to right.
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<float> pixels;
+
+  Image() = default;
+  Image(int width_, int height_, int channels_, float fill = 0.0f)
+      : width(width_), height(height_), channels(channels_),
+        pixels(std::size_t(width_) * std::size_t(height_) * std::size_t(channels_), fill) {}
+
+  std::size_t offset(int x, int y, int c = 0) const {
+    return (std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) + std::size_t(c);
+  }
+  float& at(int x, int y, int c) { return pixels[offset(x, y, c)]; }
+  float at(int x, int y, int c) const { return pixels[offset(x, y, c)]; }
+};
+
+// Writes by extension: .exr (float), .png (8-bit), .tif/.tiff (float), .hdr (RGBE).
+// Throws FileError for unknown extensions, unwritable destinations and encoder failures.
+void writeImage(const std::filesystem::path& path, const Image& image);
+
+// Reads any format OpenImageIO knows, converted to float (8-bit data maps to [0, 1]).
+Image readImage(const std::filesystem::path& path);
+
+// sRGB transfer function of one linear value in [0, 1] (clamped).
+float srgbEncode(float linear);
+// Linear radiance -> displayable [0, 1] sRGB values: multiply by 2^exposure_stops, clamp, encode.
+// Alpha (a fourth channel) is copied unchanged.
+Image toneMapToSrgb(const Image& linear, float exposure_stops = 0.0f);
+
+using ImageAttribute = std::variant<int, float, std::string>;
+
+struct StackLayer {
+  std::string name;                                    // the EXR part name
+  std::map<std::string, ImageAttribute> attributes;    // extra header attributes of the part
+  Image image;
+};
+
+// Writes a multi-part EXR, one part per layer (the path must end in .exr).
+void writeImageStack(const std::filesystem::path& path, const std::vector<StackLayer>& layers);
+// Reads every part of a (multi-part) EXR with its name and its int, float and string attributes.
+std::vector<StackLayer> readImageStack(const std::filesystem::path& path);
+
+}  // namespace btf

@@ -1,0 +1,243 @@
+#include "btf/material/tabulated_brdf.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "btf/core/error.h"
+#include "btf/core/half_diff.h"
+#include "btf/core/math.h"
+#include "btf/core/progress.h"
+#include "btf/sampling/warp.h"
+
+namespace btf {
+namespace {
+
+constexpr int kNh = MerlTable::kThetaHalfRes;
+constexpr int kNd = MerlTable::kThetaDiffRes;
+constexpr int kNp = MerlTable::kPhiDiffRes;
+constexpr std::size_t kCells = MerlTable::kEntriesPerChannel;
+
+// atan(a) for a in [0, 1] as a * P(a^2), a least-squares fit with minimax weights made for this
+// file; absolute error below 3e-7 rad, i.e. 2e-5 of a table cell (1 degree). Much cheaper than
+// std::atan2/std::acos, which would otherwise dominate a lookup.
+inline float atanUnit(float a) {
+  const float t = a * a;
+  float p = 6.811792888e-03f;
+  p = p * t - 3.360421950e-02f;
+  p = p * t + 7.962367142e-02f;
+  p = p * t - 1.323334207e-01f;
+  p = p * t + 1.980781557e-01f;
+  p = p * t - 3.331736806e-01f;
+  p = p * t + 9.999961116e-01f;
+  return a * p;
+}
+
+// atan2(y, x) for y >= 0, in [0, pi]; 0 when both are 0.
+inline float atan2UpperHalf(float y, float x) {
+  const float ax = std::abs(x);
+  const float hi = std::max(ax, y), lo = std::min(ax, y);
+  float angle = hi > 0 ? atanUnit(lo / hi) : 0.0f;
+  if (y > ax) angle = kHalfPi - angle;
+  return x < 0 ? kPi - angle : angle;
+}
+
+// Continuous table coordinates (u_h, u_d, u_p) of a direction pair above the horizon: the same
+// mapping as MerlTable::*Coordinate, computed from dot and cross products without normalizing.
+struct TableCoordinates {
+  float u_h, u_d, u_p;
+};
+
+inline TableCoordinates tableCoordinates(const glm::vec3& wi, const glm::vec3& wo) {
+  const glm::vec3 s = wi + wo;  // along the half vector; s.z > 0 above the horizon
+  const float sxy2 = s.x * s.x + s.y * s.y;
+  const float theta_h = atan2UpperHalf(std::sqrt(sxy2), s.z);
+  // theta_d is half the angle between wi and wo.
+  const float theta_d = atan2UpperHalf(glm::length(glm::cross(wi, wo)), 1.0f + glm::dot(wi, wo));
+  // phi_d is the azimuth of wi in the frame rotated so that h is the pole (see half_diff.h). With
+  // h = s/|s| and sin^2(theta_h) = |h_xy|^2, that frame's x and y components of wi, times
+  // sin(theta_h) (which leaves the azimuth unchanged), are:
+  const float inv_len2 = 1.0f / (sxy2 + s.z * s.z);
+  const float inv_len = std::sqrt(inv_len2);
+  const glm::vec3 h = s * inv_len;
+  const float hxy2 = sxy2 * inv_len2;
+  float dx, dy;
+  if (hxy2 > 1e-12f) {
+    dx = h.z * (h.x * wi.x + h.y * wi.y) - hxy2 * wi.z;
+    dy = h.x * wi.y - h.y * wi.x;
+  } else {  // h at the pole: phi_h = 0 by convention, so d = wi.
+    dx = wi.x;
+    dy = wi.y;
+  }
+  // Fold onto [0, pi): the line through d, as reciprocity allows.
+  if (dy < 0 || (dy == 0 && dx < 0)) {
+    dx = -dx;
+    dy = -dy;
+  }
+  const float phi_d = atan2UpperHalf(dy, dx);
+  constexpr float kDegPerRad = 180.0f * kInvPi;
+  return {std::sqrt(theta_h * (2.0f * kInvPi)) * float(kNh), theta_d * kDegPerRad, phi_d * kDegPerRad};
+}
+
+inline int nearestIndex(float u, int n) { return std::min(int(u + 0.5f), n - 1); }
+
+// --- Nearest measured cell, for holes -------------------------------------------------------
+
+// For one phi_d row with at least one measured cell: for every k, the nearest measured k'
+// (circular distance, period kNp; ties go to k - d).
+void nearestInRow(const std::uint8_t* measured, std::int16_t* nearest) {
+  int first = 0;
+  while (!measured[first]) ++first;
+  std::int16_t prev[kNp], next[kNp];
+  for (int step = 0, last = first; step < kNp; ++step) {
+    const int k = (first + step) % kNp;
+    if (measured[k]) last = k;
+    prev[k] = std::int16_t(last);
+  }
+  for (int step = 0, last = first; step < kNp; ++step) {
+    const int k = ((first - step) % kNp + kNp) % kNp;
+    if (measured[k]) last = k;
+    next[k] = std::int16_t(last);
+  }
+  for (int k = 0; k < kNp; ++k) {
+    const int d_prev = (k - prev[k] + kNp) % kNp, d_next = (next[k] - k + kNp) % kNp;
+    nearest[k] = d_prev <= d_next ? prev[k] : next[k];
+  }
+}
+
+// The index nearest to `at` among 0..n-1 with has[index] (searching outwards, ties to the lower),
+// or -1.
+int nearestWith(const std::vector<std::uint8_t>& has, int offset, int n, int at) {
+  for (int d = 0; d < n; ++d) {
+    if (at - d >= 0 && has[offset + at - d]) return at - d;
+    if (at + d < n && has[offset + at + d]) return at + d;
+  }
+  return -1;
+}
+
+}  // namespace
+
+TabulatedBrdf::TabulatedBrdf(std::shared_ptr<const MerlTable> table, TableLookup lookup)
+    : table_(std::move(table)), lookup_(lookup), cells_(kCells, Cell{Rgb(0.0f), 0.0f}) {
+  if (!table_) throw Error("TabulatedBrdf: no table given");
+  if (table_->values.size() != 3 * kCells)
+    throw Error("TabulatedBrdf: the table holds " + std::to_string(table_->values.size()) + " values, expected " +
+                std::to_string(3 * kCells));
+
+  std::vector<std::uint8_t> measured(kCells), row_has(kNh * kNd, 0), slab_has(kNh, 0);
+  for (std::size_t c = 0; c < kCells; ++c) {
+    measured[c] = table_->isMeasured(c);
+    if (measured[c]) row_has[c / kNp] = slab_has[c / (kNp * kNd)] = 1;
+  }
+  if (std::none_of(slab_has.begin(), slab_has.end(), [](std::uint8_t b) { return b != 0; })) return;
+
+  std::vector<std::int16_t> nearest_k(kCells, 0);
+  for (int row = 0; row < kNh * kNd; ++row)
+    if (row_has[row]) nearestInRow(&measured[std::size_t(row) * kNp], &nearest_k[std::size_t(row) * kNp]);
+
+  for (int i = 0; i < kNh; ++i) {
+    const int src_i = nearestWith(slab_has, 0, kNh, i);
+    for (int j = 0; j < kNd; ++j) {
+      // The row to take values from: this one if it has any measurement, else the nearest in theta_d
+      // (within the nearest theta_h slab that has one).
+      const int src_j = nearestWith(row_has, src_i * kNd, kNd, j);
+      const std::size_t src_row = std::size_t(src_i) * kNd + src_j;
+      for (int k = 0; k < kNp; ++k) {
+        const std::size_t c = MerlTable::index(i, j, k);
+        const std::size_t src = src_row * kNp + nearest_k[src_row * kNp + k];
+        cells_[c] = {table_->reflectance(measured[c] ? c : src), measured[c] ? 1.0f : 0.0f};
+      }
+    }
+  }
+}
+
+Rgb TabulatedBrdf::evalNearest(float u_h, float u_d, float u_p) const {
+  int k = int(u_p + 0.5f);
+  if (k >= kNp) k -= kNp;
+  return cells_[MerlTable::index(nearestIndex(u_h, kNh), nearestIndex(u_d, kNd), k)].f;
+}
+
+Rgb TabulatedBrdf::evalInterpolated(float u_h, float u_d, float u_p) const {
+  const int i0 = std::min(int(u_h), kNh - 1), j0 = std::min(int(u_d), kNd - 1);
+  const int i1 = std::min(i0 + 1, kNh - 1), j1 = std::min(j0 + 1, kNd - 1);
+  const float th = std::min(u_h - float(i0), 1.0f), td = std::min(u_d - float(j0), 1.0f);
+  int k0 = int(u_p);
+  const float tp = u_p - float(k0);
+  if (k0 >= kNp) k0 -= kNp;
+  const int k1 = k0 + 1 == kNp ? 0 : k0 + 1;
+
+  const std::size_t rows[4] = {MerlTable::index(i0, j0, 0), MerlTable::index(i0, j1, 0), MerlTable::index(i1, j0, 0),
+                               MerlTable::index(i1, j1, 0)};
+  const float row_weights[4] = {(1 - th) * (1 - td), (1 - th) * td, th * (1 - td), th * td};
+  Rgb sum(0.0f);
+  float weight_sum = 0;
+  for (int r = 0; r < 4; ++r) {
+    const Cell& a = cells_[rows[r] + k0];
+    const Cell& b = cells_[rows[r] + k1];
+    const float wa = row_weights[r] * (1 - tp) * a.measured, wb = row_weights[r] * tp * b.measured;
+    sum += wa * a.f + wb * b.f;
+    weight_sum += wa + wb;
+  }
+  if (weight_sum > 0) return sum / weight_sum;
+  return evalNearest(u_h, u_d, u_p);
+}
+
+Rgb TabulatedBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (!(wi.z > 0 && wo.z > 0)) return Rgb(0.0f);  // below the horizon (or NaN input)
+  const TableCoordinates u = tableCoordinates(wi, wo);
+  return lookup_ == TableLookup::Nearest ? evalNearest(u.u_h, u.u_d, u.u_p) : evalInterpolated(u.u_h, u.u_d, u.u_p);
+}
+
+std::optional<BsdfSample> TabulatedBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  const glm::vec3 wi = squareToCosineHemisphere(u);
+  const float pdf = cosineHemispherePdf(wi);
+  if (!(pdf > 0)) return std::nullopt;
+  return BsdfSample{wi, eval(wi, wo) * (wi.z / pdf), pdf};
+}
+
+float TabulatedBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (!(wo.z > 0)) return 0.0f;
+  return cosineHemispherePdf(wi);
+}
+
+std::string TabulatedBrdf::name() const {
+  return lookup_ == TableLookup::Nearest ? "tabulated(lookup=nearest)" : "tabulated(lookup=interpolated)";
+}
+
+MerlTable tabulate(const Material& material) {
+  MerlTable table;
+  Progress progress("tabulate " + material.name(), kNh);
+  // Each cell depends only on its own angles, so any split over threads gives the same table.
+  tbb::parallel_for(tbb::blocked_range<int>(0, kNh), [&](const tbb::blocked_range<int>& range) {
+    for (int i = range.begin(); i != range.end(); ++i) {
+      HalfDiff hd;
+      hd.theta_h = float(MerlTable::thetaHalfOf(i));
+      for (int j = 0; j < kNd; ++j) {
+        hd.theta_d = float(MerlTable::thetaDiffOf(j));
+        for (int k = 0; k < kNp; ++k) {
+          hd.phi_d = float(MerlTable::phiDiffOf(k));
+          const DirectionPair pair = fromHalfDiff(hd);
+          const std::size_t c = MerlTable::index(i, j, k);
+          if (!(pair.wi.z > 0 && pair.wo.z > 0)) {
+            table.setUnmeasured(c);
+            continue;
+          }
+          const Rgb f = material.eval(pair.wi, pair.wo);
+          if (!f.isFinite())
+            throw Error("tabulate: " + material.name() + " returned a non-finite value at theta_h index " +
+                        std::to_string(i) + ", theta_d index " + std::to_string(j) + ", phi_d index " +
+                        std::to_string(k));
+          table.setReflectance(c, f);
+        }
+      }
+      progress.advance();
+    }
+  });
+  return table;
+}
+
+}  // namespace btf

@@ -1,0 +1,37 @@
+// Helpers of the command-line tests: run the real `btf` and `btf-datagen`, parse their JSON.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "support/test_support.h"
+
+namespace btf::test {
+
+inline CommandResult runBtf(const std::vector<std::string>& args) { return runCommand(BTF_CLI_PATH, args); }
+inline CommandResult runDatagen(const std::vector<std::string>& args) { return runCommand(BTF_DATAGEN_PATH, args); }
+
+// The JSON document in a command's output (stdout and stderr are merged; warnings may precede it).
+inline nlohmann::json parseJsonOutput(const CommandResult& result) {
+  const std::size_t start = result.output.find_first_of("{[");
+  if (start == std::string::npos) throw std::runtime_error("no JSON in output: " + result.output);
+  return nlohmann::json::parse(result.output.substr(start));
+}
+
+inline std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+inline std::vector<std::filesystem::path> filesIn(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) files.push_back(entry.path());
+  return files;
+}
+
+}  // namespace btf::test

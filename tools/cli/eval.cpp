@@ -1,0 +1,87 @@
+// `btf eval FILE`: the table's f at one pair of directions, in degrees.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "btf/core/error.h"
+#include "btf/core/half_diff.h"
+#include "btf/core/math.h"
+#include "btf/material/tabulated_brdf.h"
+#include "commands.h"
+#include "measured_file.h"
+
+namespace btf::cli {
+namespace {
+
+struct EvalOptions {
+  std::string file;
+  float theta_i = 0, phi_i = 0, theta_o = 0, phi_o = 0;
+  std::vector<float> half_diff;  // theta_h, theta_d, phi_d
+  TableLookup lookup = TableLookup::Interpolated;
+  bool json = false;
+};
+
+float radians(float degrees) { return degrees * kPi / 180.0f; }
+
+void runEval(const EvalOptions& o) {
+  measuredFormatOf(o.file);  // reject an unknown extension before reading
+  auto table = std::make_shared<const MerlTable>(loadMeasuredTable(o.file));
+  const TabulatedBrdf brdf(table, o.lookup);
+  glm::vec3 wi, wo;
+  if (!o.half_diff.empty()) {
+    HalfDiff hd;
+    hd.theta_h = radians(o.half_diff[0]);
+    hd.theta_d = radians(o.half_diff[1]);
+    hd.phi_d = radians(o.half_diff[2]);
+    const DirectionPair pair = fromHalfDiff(hd);
+    wi = pair.wi;
+    wo = pair.wo;
+  } else {
+    wi = sphericalDirection(radians(o.theta_i), radians(o.phi_i));
+    wo = sphericalDirection(radians(o.theta_o), radians(o.phi_o));
+  }
+  const Rgb f = brdf.eval(wi, wo);
+  const char* lookup = o.lookup == TableLookup::Nearest ? "nearest" : "interpolated";
+  const float deg = 180.0f / kPi;
+  if (o.json) {
+    std::cout << nlohmann::json{{"file", o.file},
+                                {"lookup", lookup},
+                                {"theta_i_deg", sphericalTheta(wi) * deg},
+                                {"phi_i_deg", sphericalPhi(wi) * deg},
+                                {"theta_o_deg", sphericalTheta(wo) * deg},
+                                {"phi_o_deg", sphericalPhi(wo) * deg},
+                                {"f", {f.r, f.g, f.b}}}
+                     .dump(2)
+              << "\n";
+    return;
+  }
+  std::printf("f = %.6g %.6g %.6g (1/sr, %s) at theta_i %.2f phi_i %.2f theta_o %.2f phi_o %.2f deg\n", f.r, f.g, f.b,
+              lookup, sphericalTheta(wi) * deg, sphericalPhi(wi) * deg, sphericalTheta(wo) * deg,
+              sphericalPhi(wo) * deg);
+}
+
+}  // namespace
+
+void registerEvalCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("eval", "Value f (1/sr, RGB) of a measured table at one pair of directions (degrees)");
+  auto o = std::make_shared<EvalOptions>();
+  cmd->add_option("FILE", o->file, "Measured table (.binary MERL, or .exr from btf convert)")->required();
+  const auto angle = CLI::Range(-360.0f, 360.0f);
+  auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0f, 90.0f));
+  auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle);
+  auto* to = cmd->add_option("--theta-o", o->theta_o, "View polar angle")->check(CLI::Range(0.0f, 90.0f));
+  auto* po = cmd->add_option("--phi-o", o->phi_o, "View azimuth")->check(angle);
+  cmd->add_option("--half-diff", o->half_diff, "Rusinkiewicz angles THETA_H THETA_D PHI_D instead (phi_h = 0)")
+      ->expected(3)
+      ->excludes(ti)->excludes(pi)->excludes(to)->excludes(po);
+  cmd->add_option_function<std::string>(
+         "--lookup", [o](const std::string& name) { o->lookup = parseLookup(name); },
+         "Table lookup: interpolated (default) or nearest")
+      ->check(CLI::IsMember({"interpolated", "nearest"}));
+  cmd->add_flag("--json", o->json, "Machine-readable output");
+  cmd->callback([o] { runEval(*o); });
+}
+
+}  // namespace btf::cli

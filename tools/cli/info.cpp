@@ -1,0 +1,102 @@
+// `btf info FILE`: compact facts about a measured table, like oiiotool's iinfo.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <memory>
+
+#include "btf/core/math.h"
+#include "btf/material/albedo.h"
+#include "btf/material/tabulated_brdf.h"
+#include "commands.h"
+#include "measured_file.h"
+
+namespace btf::cli {
+namespace {
+
+// The incidence angles btf-datagen reports its expected albedo at.
+constexpr float kAlbedoAnglesDeg[] = {0.0f, 30.0f, 60.0f, 75.0f};
+
+struct ChannelStats {
+  Rgb min{std::numeric_limits<float>::infinity()};
+  Rgb max{-std::numeric_limits<float>::infinity()};
+  Rgb mean{0.0f};
+  std::size_t measured = 0;
+};
+
+ChannelStats measuredStats(const MerlTable& table) {
+  ChannelStats s;
+  double sum[3] = {0, 0, 0};  // 1.4M terms: accumulate in double
+  for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; ++i) {
+    if (!table.isMeasured(i)) continue;
+    const Rgb f = table.reflectance(i);
+    for (int c = 0; c < 3; ++c) {
+      s.min[c] = std::min(s.min[c], f[c]);
+      s.max[c] = std::max(s.max[c], f[c]);
+      sum[c] += f[c];
+    }
+    ++s.measured;
+  }
+  if (s.measured == 0) return ChannelStats{Rgb(0.0f), Rgb(0.0f), Rgb(0.0f), 0};
+  for (int c = 0; c < 3; ++c) s.mean[c] = float(sum[c] / double(s.measured));
+  return s;
+}
+
+nlohmann::json rgbJson(const Rgb& c) { return {c.r, c.g, c.b}; }
+
+void runInfo(const std::string& file, bool json) {
+  const MeasuredFormat format = measuredFormatOf(file);
+  auto table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
+  const ChannelStats stats = measuredStats(*table);
+  const std::size_t total = MerlTable::kEntriesPerChannel;
+  const std::size_t unmeasured = total - stats.measured;
+  const double percent = 100.0 * double(unmeasured) / double(total);
+
+  const TabulatedBrdf brdf(table, TableLookup::Interpolated);
+  nlohmann::json albedo = nlohmann::json::array();
+  for (float deg : kAlbedoAnglesDeg)
+    albedo.push_back({{"theta_o_deg", deg}, {"rgb", rgbJson(integrateAlbedoHalfVector(brdf, deg * kPi / 180.0f))}});
+
+  if (json) {
+    std::cout << nlohmann::json{
+                     {"file", file},
+                     {"format", describe(format)},
+                     {"dims", {MerlTable::kThetaHalfRes, MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes}},
+                     {"samples", total},
+                     {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
+                     {"f_measured", {{"min", rgbJson(stats.min)}, {"max", rgbJson(stats.max)}, {"mean", rgbJson(stats.mean)}}},
+                     {"albedo", albedo}}
+                     .dump(2)
+              << "\n";
+    return;
+  }
+  std::printf("%s\n", file.c_str());
+  std::printf("  format      %s\n", describe(format).c_str());
+  std::printf("  dims        %d x %d x %d (theta_h x theta_d x phi_d), RGB\n", MerlTable::kThetaHalfRes,
+              MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes);
+  std::printf("  unmeasured  %zu of %zu samples (%.2f%%)\n", unmeasured, total, percent);
+  std::printf("  f (1/sr) of measured samples:   R           G           B\n");
+  std::printf("    min       %11.5g %11.5g %11.5g\n", stats.min.r, stats.min.g, stats.min.b);
+  std::printf("    max       %11.5g %11.5g %11.5g\n", stats.max.r, stats.max.g, stats.max.b);
+  std::printf("    mean      %11.5g %11.5g %11.5g\n", stats.mean.r, stats.mean.g, stats.mean.b);
+  std::printf("  albedo (directional-hemispherical, interpolated lookup):\n");
+  for (const auto& a : albedo)
+    std::printf("    theta_o %2.0f deg  %.4f %.4f %.4f\n", a["theta_o_deg"].get<float>(), a["rgb"][0].get<float>(),
+                a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
+}
+
+}  // namespace
+
+void registerInfoCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("info", "Facts about a measured table: format, dims, value ranges, unmeasured "
+                                         "samples, albedo at theta_o = 0, 30, 60, 75 deg");
+  auto file = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("FILE", *file, "Measured table (.binary MERL, or .exr from btf convert)")->required();
+  cmd->add_flag("--json", *json, "Machine-readable output");
+  cmd->callback([file, json] { runInfo(*file, *json); });
+}
+
+}  // namespace btf::cli

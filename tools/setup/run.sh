@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian 12 machine: installs the Debian packages libbtf needs (when any
+# is missing), builds in Release, then runs one job:
+#   demo   the main job on built-in default data (writes into out/)
+#   test   the whole test suite through ctest
+#   asan   the test suite again in a separate AddressSanitizer + UBSan build (build-asan/)
+# Idempotent: with everything installed and built it only re-runs the job.
+set -euo pipefail
+
+job=${1:-demo}
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+cd "$root"
+jobs=$(nproc 2>/dev/null || echo 2)
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libglm-dev libopenexr-dev libopenimageio-dev libflann-dev liblz4-dev libceres-dev libeigen3-dev
+  libembree-dev libtbb-dev libboost-dev libzstd-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
+  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+)
+
+install_packages() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "== installing ${#missing[@]} Debian packages: ${missing[*]}"
+  local sudo=()
+  [ "$(id -u)" -ne 0 ] && sudo=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+build() {  # build DIR [extra cmake args...]
+  local dir=$1; shift
+  echo "== building in $dir"
+  cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+  cmake --build "$dir" -j"$jobs"
+}
+
+demo() {
+  local bin=build/bin out=out
+  mkdir -p "$out"
+  echo "== generating a measured-style BRDF (preset plastic-red, MERL layout)"
+  "$bin/btf-datagen" --preset plastic-red --seed 1 -o "$out/plastic-red.binary"
+  echo "== its facts"
+  "$bin/btf" info "$out/plastic-red.binary"
+  echo "== preview"
+  "$bin/btf" plot "$out/plastic-red.binary" -o "$out/plastic-red.png"
+  echo "wrote $out/plastic-red.binary and $out/plastic-red.png"
+}
+
+install_packages
+case "$job" in
+  demo) build build -DCMAKE_BUILD_TYPE=Release; demo ;;
+  test) build build -DCMAKE_BUILD_TYPE=Release
+        ctest --test-dir build --output-on-failure -j"$jobs" ;;
+  asan) build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBTF_SANITIZE=ON -DBTF_BUILD_BENCHMARKS=OFF
+        ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+          ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "install|bench" ;;
+  *) echo "usage: $0 [demo|test|asan]" >&2; exit 2 ;;
+esac
