@@ -1,6 +1,7 @@
 // Directional albedo: the Monte Carlo estimator and the half-vector quadrature agree with each
 // other and with the exact value of a Lambertian surface.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <memory>
 #include <vector>
@@ -69,6 +70,22 @@ TEST(Albedo, EstimateIsDeterministicForASeed) {
   EXPECT_EQ(a.value, b.value);
   EXPECT_EQ(a.standard_error, b.standard_error);
   EXPECT_NE(a.value, c.value);
+}
+
+TEST(Albedo, EstimateDoesNotDependOnTheThreadCount) {
+  const btf::Ggx ggx(Rgb(0.3f), Rgb(0.04f), 0.2f, 0.2f);
+  const glm::vec3 wo = btf::sphericalDirection(glm::radians(50.0f), 0.0f);
+  btf::AlbedoEstimate one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = btf::estimateAlbedo(ggx, wo, 200'000, 9);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = btf::estimateAlbedo(ggx, wo, 200'000, 9);
+  }
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.standard_error, two.standard_error);
 }
 
 TEST(Albedo, RejectsInvalidArguments) {

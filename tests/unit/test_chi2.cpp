@@ -2,6 +2,7 @@
 // Every test uses fixed seeds, 20 x 40 cells and significance 0.01, so each outcome is
 // deterministic; the draw counts are stated per test.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <numbers>
 #include <numeric>
@@ -104,6 +105,23 @@ TEST(Chi2, IsDeterministicForASeedAndChangesWithIt) {
   EXPECT_EQ(a.observed, b.observed);
   EXPECT_EQ(a.statistic, b.statistic);
   EXPECT_NE(a.observed, c.observed);
+}
+
+TEST(Chi2, DoesNotDependOnTheThreadCount) {
+  btf::Chi2Options options;
+  options.sample_count = 200'000;
+  btf::Chi2Result one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = btf::chi2Test(kCosineSampler, kCosinePdf, options);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = btf::chi2Test(kCosineSampler, kCosinePdf, options);
+  }
+  EXPECT_EQ(one.observed, two.observed);
+  EXPECT_EQ(one.expected, two.expected);
+  EXPECT_EQ(one.statistic, two.statistic);
 }
 
 TEST(Chi2, RejectsTooFewDrawsForTheCells) {

@@ -69,10 +69,10 @@ void registerEvalCommand(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
   cmd->add_option("FILE", o->file, "Measured table (.binary MERL, or .exr from btf convert)")->required();
   const auto angle = CLI::Range(-360.0f, 360.0f);
-  auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0f, 90.0f));
-  auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle);
-  auto* to = cmd->add_option("--theta-o", o->theta_o, "View polar angle")->check(CLI::Range(0.0f, 90.0f));
-  auto* po = cmd->add_option("--phi-o", o->phi_o, "View azimuth")->check(angle);
+  auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
+  auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle)->capture_default_str();
+  auto* to = cmd->add_option("--theta-o", o->theta_o, "View polar angle")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
+  auto* po = cmd->add_option("--phi-o", o->phi_o, "View azimuth")->check(angle)->capture_default_str();
   cmd->add_option("--half-diff", o->half_diff, "Rusinkiewicz angles THETA_H THETA_D PHI_D instead (phi_h = 0)")
       ->expected(3)
       ->excludes(ti)->excludes(pi)->excludes(to)->excludes(po);
