@@ -7,10 +7,10 @@
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/material/tabulated_brdf.h"
-#include "bitmap_font.h"
 #include "commands.h"
 #include "measured_file.h"
 #include "plot_figures.h"
+#include "text_labels.h"
 
 namespace btf::cli {
 namespace {
@@ -25,7 +25,7 @@ struct PlotOptions {
   TableLookup lookup = TableLookup::Interpolated;
 };
 
-constexpr int kFont = 2;             // glyph scale: 10 x 14 pixel characters
+constexpr int kFont = 15;            // label font size in pixels
 constexpr int kMarginLeft = 76;      // y tick labels and the vertical axis title
 constexpr int kMarginTop = 44;       // panel titles
 constexpr int kMarginBottom = 64;    // x tick labels and axis title
@@ -58,7 +58,7 @@ void drawSliceAxes(Image& canvas, int x0, int y0, int size) {
     const std::string label = formatNumber(deg, 0);
     drawText(canvas, x - textWidth(label, kFont) / 2, y0 + size + 10, label, kInk, kFont);
   }
-  const std::string x_title = "THETA_H (DEG, SQRT SCALE)";
+  const std::string x_title = "theta_h (degrees, square-root scale)";
   drawText(canvas, x0 + (size - textWidth(x_title, kFont)) / 2, y0 + size + 36, x_title, kInk, kFont);
   for (float deg : {0.0f, 30.0f, 60.0f, 90.0f}) {
     const int y = y0 + int(std::lround((1.0f - deg / 90.0f) * float(size - 1)));
@@ -66,7 +66,7 @@ void drawSliceAxes(Image& canvas, int x0, int y0, int size) {
     const std::string label = formatNumber(deg, 0);
     drawText(canvas, x0 - 10 - textWidth(label, kFont), y - textHeight(kFont) / 2, label, kInk, kFont);
   }
-  const std::string y_title = "THETA_D (DEG)";
+  const std::string y_title = "theta_d (degrees)";
   drawTextVertical(canvas, 8, y0 + (size - textWidth(y_title, kFont)) / 2, y_title, kInk, kFont);
 }
 
@@ -80,7 +80,7 @@ void drawColorBar(Image& canvas, int x0, int y0, int size, const SliceFigure& sl
     fillRect(canvas, x0 + kColorBarWidth, y, 4, 1, kInk);
     drawText(canvas, x0 + kColorBarWidth + 8, y - textHeight(kFont) / 2, label, kInk, kFont);
   }
-  drawText(canvas, x0, kMarginTop - 30, "LOG10", kInk, kFont);
+  drawText(canvas, x0, kMarginTop - 30, "log10", kInk, kFont);
 }
 
 void runPlot(const PlotOptions& o) {
@@ -99,16 +99,16 @@ void runPlot(const PlotOptions& o) {
 
   const SliceFigure slice = renderHalfDiffSlice(brdf, size);
   blit(canvas, slice.image, slice_x, kMarginTop);
-  drawText(canvas, slice_x, kMarginTop - 30, "F*COS THETA_I, PHI_D=90", kInk, kFont);
+  drawText(canvas, slice_x, kMarginTop - 30, "log10 f*cos(theta_i) at phi_d = 90 deg", kInk, kFont);
   drawSliceAxes(canvas, slice_x, kMarginTop, size);
   drawColorBar(canvas, bar_x, kMarginTop, size, slice);
 
   const float to_radians = kPi / 180.0f;
   const glm::vec3 light = sphericalDirection(o.light_theta * to_radians, o.light_phi * to_radians);
   blit(canvas, renderSpherePreview(brdf, size, light, o.exposure), sphere_x, kMarginTop);
-  const std::string sphere_title = "LIGHT THETA " + formatNumber(o.light_theta, 0) + " PHI " + formatNumber(o.light_phi, 0);
+  const std::string sphere_title = "light at theta " + formatNumber(o.light_theta, 0) + ", phi " + formatNumber(o.light_phi, 0) + " deg";
   drawText(canvas, sphere_x, kMarginTop - 30, sphere_title, kInk, kFont);
-  const std::string exposure = "EXPOSURE " + formatNumber(o.exposure, 1);
+  const std::string exposure = "exposure " + formatNumber(o.exposure, 1) + " stops";
   drawText(canvas, sphere_x, kMarginTop + size + 10, exposure, kInk, kFont);
 
   writeImage(o.output, canvas);

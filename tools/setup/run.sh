@@ -16,7 +16,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libopenexr-dev libopenimageio-dev libflann-dev liblz4-dev libceres-dev libeigen3-dev
   libembree-dev libtbb-dev libboost-dev libzstd-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
-  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox fonts-dejavu-core
 )
 
 install_packages() {
