@@ -1,10 +1,11 @@
-// `btf-datagen`: synthetic MERL tables from analytic models, with the artifacts of real
-// measurements, deterministic from a seed.
+// `btf-datagen`: synthetic MERL tables from analytic models (presets, or the published fits of
+// the 100 MERL materials), with the artifacts of real measurements, deterministic from a seed.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <iostream>
 
 #include "btf/core/error.h"
@@ -13,6 +14,7 @@
 #include "btf/material/albedo.h"
 #include "btf/material/tabulated_brdf.h"
 #include "acquisition_response.h"
+#include "merl_fit_commands.h"
 #include "presets.h"
 #include "table_artifacts.h"
 #include "../tools/cli/terminal.h"
@@ -25,6 +27,11 @@ constexpr float kAlbedoAnglesDeg[] = {0.0f, 30.0f, 60.0f, 75.0f};
 
 struct Options {
   std::string preset;
+  std::string merl_fit;  // a MERL name (or SGD alternative name) instead of a preset
+  std::string model = "sgd";
+  std::string fits_dir;
+  std::string compare_fits;
+  bool list_merl_fits = false;
   std::string output;
   std::uint64_t seed = 1;
   TableArtifacts artifacts{0.03f, 0.005f, 2.0f};
@@ -54,19 +61,48 @@ void listPresets(bool json) {
   if (json) std::cout << out.dump(2) << "\n";
 }
 
+// The material a table is made of: a preset, or a published fit (loaded once per run).
+struct Source {
+  std::string label;  // "chrome" or "chrome (abc)"
+  std::shared_ptr<const Material> material;
+  std::optional<MerlFitComparison> comparison;  // for a MERL fit: how all fits of it compare
+};
+
+Source resolveSource(const Options& o, bool compare) {
+  if (!o.preset.empty()) return {o.preset, findPreset(o.preset).make(), std::nullopt};
+  const MerlFits fits = loadMerlFits(o.fits_dir);
+  const FitModel model = parseFitModel(o.model);
+  std::shared_ptr<const Material> material = makeMerlFitMaterial(fits, o.merl_fit, model);
+  const std::string name = fits.resolve(o.merl_fit);
+  std::optional<MerlFitComparison> comparison;
+  if (compare) comparison = compareMerlFits(fits, name, kFitDisagreementThreshold);
+  return {name + " (" + fitModelName(model) + ")", std::move(material), std::move(comparison)};
+}
+
 // The analytic material with the acquisition response that the generated table is sampled from.
-std::shared_ptr<const Material> measuredLook(const Options& o) {
+std::shared_ptr<const Material> measuredLook(const Options& o, const Source& source) {
   const Rgb tint(o.tint[0], o.tint[1], o.tint[2]);
-  return std::make_shared<AcquisitionResponse>(findPreset(o.preset).make(), tint, o.falloff, o.preset);
+  return std::make_shared<AcquisitionResponse>(source.material, tint, o.falloff, source.label);
+}
+
+nlohmann::json sourceJson(const Options& o) {
+  if (!o.preset.empty()) return {{"preset", o.preset}};
+  return {{"merl_fit", o.merl_fit}, {"model", o.model}};
 }
 
 void printAnalyticValue(const Options& o) {
   const auto& a = o.eval_angles_deg;
   const glm::vec3 wi = sphericalDirection(radians(a[0]), radians(a[1]));
   const glm::vec3 wo = sphericalDirection(radians(a[2]), radians(a[3]));
-  const Rgb f = measuredLook(o)->eval(wi, wo);
-  if (o.json) std::cout << nlohmann::json{{"preset", o.preset}, {"f", rgbJson(f)}}.dump(2) << "\n";
-  else std::printf("%s f = %.6g %.6g %.6g (1/sr)\n", o.preset.c_str(), f.r, f.g, f.b);
+  const Source source = resolveSource(o, false);
+  const Rgb f = measuredLook(o, source)->eval(wi, wo);
+  if (o.json) {
+    nlohmann::json out = sourceJson(o);
+    out["f"] = rgbJson(f);
+    std::cout << out.dump(2) << "\n";
+  } else {
+    std::printf("%s f = %.6g %.6g %.6g (1/sr)\n", source.label.c_str(), f.r, f.g, f.b);
+  }
 }
 
 void generate(const Options& o) {
@@ -78,7 +114,8 @@ void generate(const Options& o) {
   const std::filesystem::path folder = output.has_parent_path() ? output.parent_path() : ".";
   if (!std::filesystem::is_directory(folder)) throw FileError(output, "folder " + folder.string() + " does not exist");
   if (std::filesystem::is_directory(output)) throw FileError(output, "is a directory, expected a file name to write");
-  const std::shared_ptr<const Material> material = measuredLook(o);
+  const Source source = resolveSource(o, true);
+  const std::shared_ptr<const Material> material = measuredLook(o, source);
   MerlTable table = tabulate(*material);
   applyArtifacts(table, o.artifacts, o.seed);
   writeMerl(output, table);
@@ -92,8 +129,8 @@ void generate(const Options& o) {
     expected.push_back({{"theta_o_deg", deg}, {"rgb", rgbJson(integrateAlbedoHalfVector(*material, radians(deg)))}});
 
   if (o.json) {
-    std::cout << nlohmann::json{{"preset", o.preset},
-                                {"output", o.output},
+    nlohmann::json out = sourceJson(o);
+    out.update(nlohmann::json{{"output", o.output},
                                 {"seed", o.seed},
                                 {"clean", o.clean},
                                 {"noise", o.artifacts.noise_sigma},
@@ -102,12 +139,13 @@ void generate(const Options& o) {
                                 {"falloff", o.falloff},
                                 {"tint", o.tint},
                                 {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
-                                {"expected_albedo", expected}}
-                     .dump(2)
-              << "\n";
+                                {"expected_albedo", expected}});
+    if (source.comparison) out["fit_comparison"] = comparisonJson(*source.comparison);
+    std::cout << out.dump(2) << "\n";
     return;
   }
-  std::printf("wrote %s: preset %s, seed %llu\n", o.output.c_str(), o.preset.c_str(), (unsigned long long)o.seed);
+  std::printf("wrote %s: %s %s, seed %llu\n", o.output.c_str(), o.preset.empty() ? "MERL fit" : "preset",
+              source.label.c_str(), (unsigned long long)o.seed);
   if (o.clean) {
     std::printf("  effects: none (--clean)\n");
   } else {
@@ -122,12 +160,22 @@ void generate(const Options& o) {
     std::printf("    theta_o %2.0f deg: %.4f %.4f %.4f\n", e["theta_o_deg"].get<float>(), e["rgb"][0].get<float>(),
                 e["rgb"][1].get<float>(), e["rgb"][2].get<float>());
   }
+  if (source.comparison) printFitComparison(*source.comparison);
 }
 
 void run(Options& o) {
   if (o.list) return listPresets(o.json);
-  if (o.preset.empty()) throw Error("choose a material with --preset NAME (see --list-presets)");
-  findPreset(o.preset);  // fail on a typo before any work
+  if (o.list_merl_fits) return listMerlFits(loadMerlFits(o.fits_dir), o.json);
+  if (!o.compare_fits.empty()) {
+    const MerlFitComparison c = compareMerlFits(loadMerlFits(o.fits_dir), o.compare_fits, kFitDisagreementThreshold);
+    if (o.json) std::cout << comparisonJson(c).dump(2) << "\n";
+    else printFitComparison(c);
+    return;
+  }
+  if (o.preset.empty() && o.merl_fit.empty())
+    throw Error("choose a material with --preset NAME (see --list-presets) or --merl-fit NAME (see --list-merl-fits)");
+  if (!o.preset.empty()) findPreset(o.preset);  // fail on a typo before any work
+  else makeMerlFitMaterial(loadMerlFits(o.fits_dir), o.merl_fit, parseFitModel(o.model));
   if (o.clean) {
     o.artifacts = TableArtifacts{};
     o.falloff = 0.0f;
@@ -149,7 +197,17 @@ int main(int argc, char** argv) {
                "multiplicative noise, unmeasured holes), deterministic from --seed.",
                "btf-datagen"};
   app.add_flag("--list-presets", o.list, "List the presets with their analytic albedo at normal incidence");
-  app.add_option("--preset", o.preset, "Material preset (see --list-presets)");
+  auto* preset = app.add_option("--preset", o.preset, "Material preset (see --list-presets)");
+  auto* merl_fit = app.add_option("--merl-fit", o.merl_fit,
+                                  "A MERL material from its published fit (see --list-merl-fits), e.g. gold-metallic-paint")
+                       ->excludes(preset);
+  app.add_option("--model", o.model, "Fit of --merl-fit: sgd (Bagher 2012), abc (Low 2012) or lafortune (Ngan 2005)")
+      ->check(CLI::IsMember({"sgd", "abc", "lafortune"}))->needs(merl_fit)->capture_default_str();
+  app.add_flag("--list-merl-fits", o.list_merl_fits, "List the MERL materials with the models that fit them");
+  app.add_option("--compare-fits", o.compare_fits,
+                 "Albedo at 0/30/60 deg of every published fit of a MERL material, with a warning where they disagree");
+  app.add_option("--fits-dir", o.fits_dir,
+                 "Folder with the fit tables (default: the build's ../shared/data/real/fits, else the installed copy)");
   app.add_option("-o,--output", o.output, "Output MERL table (.binary)");
   app.add_option("--seed", o.seed, "Seed of the noise and holes")->capture_default_str();
   auto* noise = app.add_option("--noise", o.artifacts.noise_sigma, "Sigma of the lognormal multiplicative noise (mean 1)")

@@ -27,8 +27,8 @@ float radians(float degrees) { return degrees * kPi / 180.0f; }
 
 void runEval(const EvalOptions& o) {
   measuredFormatOf(o.file);  // reject an unknown extension before reading
-  auto table = std::make_shared<const MerlTable>(loadMeasuredTable(o.file));
-  const TabulatedBrdf brdf(table, o.lookup);
+  const std::unique_ptr<Material> material = loadMeasuredMaterial(o.file, o.lookup);
+  const Material& brdf = *material;
   glm::vec3 wi, wo;
   if (!o.half_diff.empty()) {
     HalfDiff hd;
@@ -43,7 +43,9 @@ void runEval(const EvalOptions& o) {
     wo = sphericalDirection(radians(o.theta_o), radians(o.phi_o));
   }
   const Rgb f = brdf.eval(wi, wo);
-  const char* lookup = o.lookup == TableLookup::Nearest ? "nearest" : "interpolated";
+  const char* lookup = measuredFormatOf(o.file) == MeasuredFormat::RglTensor ? "rgl parameterization"
+                       : o.lookup == TableLookup::Nearest               ? "nearest"
+                                                                        : "interpolated";
   const float deg = 180.0f / kPi;
   if (o.json) {
     std::cout << nlohmann::json{{"file", o.file},
@@ -67,7 +69,7 @@ void runEval(const EvalOptions& o) {
 void registerEvalCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Value f (1/sr, RGB) of a measured table at one pair of directions (degrees)");
   auto o = std::make_shared<EvalOptions>();
-  cmd->add_option("FILE", o->file, "Measured table (.binary MERL, or .exr from btf convert)")->required();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
   const auto angle = CLI::Range(-360.0f, 360.0f);
   auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
   auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle)->capture_default_str();

@@ -6,9 +6,13 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "btf/core/math.h"
 #include "btf/material/albedo.h"
+#include "btf/io/rgl_tensor.h"
+#include "btf/material/rgl_brdf.h"
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
 #include "measured_file.h"
@@ -46,8 +50,59 @@ ChannelStats measuredStats(const MerlTable& table) {
 
 nlohmann::json rgbJson(const Rgb& c) { return {c.r, c.g, c.b}; }
 
+nlohmann::json albedoJson(const Material& material) {
+  nlohmann::json albedo = nlohmann::json::array();
+  for (float deg : kAlbedoAnglesDeg)
+    albedo.push_back({{"theta_o_deg", deg}, {"rgb", rgbJson(integrateAlbedoHalfVector(material, deg * kPi / 180.0f))}});
+  return albedo;
+}
+
+// An RGL .bsdf: every field of the tensor_file, the material's resolution and description, and
+// its albedo evaluated through its own parameterization.
+void runRglInfo(const std::string& file, bool json) {
+  const TensorFile tensor = readTensorFile(file);
+  const RglBrdf material(tensor);
+  const nlohmann::json albedo = albedoJson(material);
+  std::vector<float> theta_deg;
+  for (float t : material.thetaSamples()) theta_deg.push_back(t * 180.0f / kPi);
+  if (json) {
+    nlohmann::json fields = nlohmann::json::array();
+    for (const TensorField& f : tensor.fields)
+      fields.push_back({{"name", f.name}, {"dtype", std::string(dtypeName(f.dtype))}, {"shape", f.shape}});
+    std::cout << nlohmann::json{{"file", file},
+                                {"format", describe(MeasuredFormat::RglTensor)},
+                                {"version", std::to_string(tensor.version_major) + "." + std::to_string(tensor.version_minor)},
+                                {"description", material.description()},
+                                {"resolution", material.resolution()},
+                                {"vndf_resolution", material.vndfResolution()},
+                                {"theta_o_deg", theta_deg},
+                                {"fields", fields},
+                                {"albedo", albedo}}
+                     .dump(2)
+              << "\n";
+    return;
+  }
+  std::printf("%s\n", file.c_str());
+  std::printf("  format      %s, version %d.%d\n", describe(MeasuredFormat::RglTensor).c_str(), tensor.version_major,
+              tensor.version_minor);
+  std::printf("  description %s\n", material.description().c_str());
+  std::printf("  resolution  %d x %d luminance/RGB per incidence, %d x %d VNDF, isotropic, RGB\n", material.resolution(),
+              material.resolution(), material.vndfResolution(), material.vndfResolution());
+  std::printf("  theta_o     %zu values (deg):", theta_deg.size());
+  for (float t : theta_deg) std::printf(" %.1f", t);
+  std::printf("\n  fields      name         dtype  shape\n");
+  for (const TensorField& f : tensor.fields)
+    std::printf("              %-12s %-6s %s\n", f.name.c_str(), std::string(dtypeName(f.dtype)).c_str(),
+                f.shapeString().c_str());
+  std::printf("  albedo (directional-hemispherical, through the file's parameterization):\n");
+  for (const auto& a : albedo)
+    std::printf("    theta_o %2.0f deg  %.4f %.4f %.4f\n", a["theta_o_deg"].get<float>(), a["rgb"][0].get<float>(),
+                a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
+}
+
 void runInfo(const std::string& file, bool json) {
   const MeasuredFormat format = measuredFormatOf(file);
+  if (format == MeasuredFormat::RglTensor) return runRglInfo(file, json);
   auto table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
   const ChannelStats stats = measuredStats(*table);
   const std::size_t total = MerlTable::kEntriesPerChannel;
@@ -55,9 +110,7 @@ void runInfo(const std::string& file, bool json) {
   const double percent = 100.0 * double(unmeasured) / double(total);
 
   const TabulatedBrdf brdf(table, TableLookup::Interpolated);
-  nlohmann::json albedo = nlohmann::json::array();
-  for (float deg : kAlbedoAnglesDeg)
-    albedo.push_back({{"theta_o_deg", deg}, {"rgb", rgbJson(integrateAlbedoHalfVector(brdf, deg * kPi / 180.0f))}});
+  const nlohmann::json albedo = albedoJson(brdf);
 
   if (json) {
     std::cout << nlohmann::json{
@@ -90,11 +143,11 @@ void runInfo(const std::string& file, bool json) {
 }  // namespace
 
 void registerInfoCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("info", "Facts about a measured table: format, dims, value ranges, unmeasured "
-                                         "samples, albedo at theta_o = 0, 30, 60, 75 deg");
+  auto* cmd = app.add_subcommand("info", "Facts about a measured material: format, dims or fields, value ranges, "
+                                         "unmeasured samples, albedo at theta_o = 0, 30, 60, 75 deg");
   auto file = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("FILE", *file, "Measured table (.binary MERL, or .exr from btf convert)")->required();
+  cmd->add_option("FILE", *file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
   cmd->add_flag("--json", *json, "Machine-readable output");
   cmd->callback([file, json] { runInfo(*file, *json); });
 }

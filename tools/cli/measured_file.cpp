@@ -2,6 +2,7 @@
 
 #include "btf/core/error.h"
 #include "btf/io/image.h"
+#include "btf/material/rgl_brdf.h"
 #include "merl_exr_stack.h"
 
 namespace btf::cli {
@@ -10,21 +11,32 @@ MeasuredFormat measuredFormatOf(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (ext == ".binary") return MeasuredFormat::MerlBinary;
   if (ext == ".exr") return MeasuredFormat::ExrStack;
+  if (ext == ".bsdf") return MeasuredFormat::RglTensor;
   const std::string what = ext.empty() ? "has no extension" : "has the unknown extension '" + ext + "'";
-  throw FileError(path, what + " (expected .binary for a MERL table or .exr for a btf convert stack)");
+  throw FileError(path, what + " (expected .binary for a MERL table, .exr for a btf convert stack or .bsdf for an RGL material)");
 }
 
 std::string describe(MeasuredFormat format) {
-  return format == MeasuredFormat::MerlBinary ? "MERL binary (isotropic BRDF table)"
-                                              : "EXR stack of MERL half/diff slices (btf convert)";
+  switch (format) {
+    case MeasuredFormat::MerlBinary: return "MERL binary (isotropic BRDF table)";
+    case MeasuredFormat::ExrStack: return "EXR stack of MERL half/diff slices (btf convert)";
+    case MeasuredFormat::RglTensor: return "RGL measured material (tensor_file, Dupuy & Jakob 2018)";
+  }
+  return "unknown";
 }
 
 MerlTable loadMeasuredTable(const std::filesystem::path& path) {
   switch (measuredFormatOf(path)) {
     case MeasuredFormat::MerlBinary: return readMerl(path);
     case MeasuredFormat::ExrStack: return exrStackToMerl(path, readImageStack(path));
+    case MeasuredFormat::RglTensor: return tabulate(RglBrdf(path));
   }
   throw FileError(path, "unsupported format");
+}
+
+std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup) {
+  if (measuredFormatOf(path) == MeasuredFormat::RglTensor) return std::make_unique<RglBrdf>(path);
+  return std::make_unique<TabulatedBrdf>(std::make_shared<const MerlTable>(loadMeasuredTable(path)), lookup);
 }
 
 TableLookup parseLookup(const std::string& name) {

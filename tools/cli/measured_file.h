@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "btf/io/merl.h"
@@ -9,13 +10,18 @@
 
 namespace btf::cli {
 
-enum class MeasuredFormat { MerlBinary, ExrStack };
+enum class MeasuredFormat { MerlBinary, ExrStack, RglTensor };
 
-// .binary -> MERL, .exr -> the EXR stack `btf convert` writes; FileError for anything else.
+// .binary -> MERL, .exr -> the EXR stack `btf convert` writes, .bsdf -> an RGL measured material
+// (tensor_file); FileError for anything else.
 MeasuredFormat measuredFormatOf(const std::filesystem::path& path);
 std::string describe(MeasuredFormat format);
 
+// The file as a MERL-layout table; an RGL material is tabulated into it (tabulate()).
 MerlTable loadMeasuredTable(const std::filesystem::path& path);
+// The file as a Material: a TabulatedBrdf with `lookup` for tables, an RglBrdf (evaluated through
+// its own parameterization; `lookup` does not apply) for .bsdf.
+std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup);
 
 // "nearest" or "interpolated" (the --lookup option of several subcommands).
 TableLookup parseLookup(const std::string& name);

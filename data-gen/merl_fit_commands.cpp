@@ -1,0 +1,93 @@
+#include "merl_fit_commands.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "btf/core/error.h"
+
+namespace btf::datagen {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The installed copy, found relative to the running executable so that a relocated install works.
+fs::path installedFitsFolder() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  return (exe.parent_path() / BTF_FITS_INSTALL_RELATIVE).lexically_normal();
+}
+
+std::string modelList(const MerlFits& fits, const std::string& name) {
+  std::string s;
+  for (FitModel m : fits.modelsFor(name)) {
+    if (!s.empty()) s += ',';
+    s += fitModelName(m);
+  }
+  return s;
+}
+
+}  // namespace
+
+MerlFits loadMerlFits(const std::string& fits_dir_option) {
+  // An explicit folder that lacks the tables is a mistake to report, not to paper over.
+  if (!fits_dir_option.empty()) return MerlFits::load(findMerlFitsFolder({fits_dir_option}));
+  return MerlFits::load(findMerlFitsFolder({BTF_FITS_BUILD_DIR, installedFitsFolder()}));
+}
+
+void listMerlFits(const MerlFits& fits, bool json) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& name : fits.names()) {
+    nlohmann::json models = nlohmann::json::array();
+    for (FitModel m : fits.modelsFor(name)) models.push_back(fitModelName(m));
+    const SgdFit* sgd = fits.findSgd(name);
+    const std::string other = sgd && sgd->other_name != name ? sgd->other_name : "";
+    if (json) {
+      out.push_back({{"name", name}, {"merl", fits.isMerl(name)}, {"models", models}, {"other_name", other}});
+    } else {
+      std::printf("%-26s %-18s%s%s\n", name.c_str(), modelList(fits, name).c_str(),
+                  fits.isMerl(name) ? "" : "  (not in the MERL 100: Ngan et al.'s larger set)",
+                  other.empty() ? "" : ("  also '" + other + "'").c_str());
+    }
+  }
+  if (json) std::cout << out.dump(2) << "\n";
+}
+
+nlohmann::json comparisonJson(const MerlFitComparison& c) {
+  nlohmann::json fits = nlohmann::json::array();
+  for (const FitAlbedos& f : c.fits) {
+    nlohmann::json albedo = nlohmann::json::array();
+    for (const Rgb& a : f.albedo) albedo.push_back({a.r, a.g, a.b});
+    fits.push_back({{"model", fitModelName(f.model)}, {"albedo", albedo}});
+  }
+  return {{"name", c.name},
+          {"theta_o_deg", c.theta_o_deg},
+          {"fits", fits},
+          {"spread", c.spread},
+          {"spread_theta_o_deg", c.spread_theta_o_deg},
+          {"threshold", c.threshold},
+          {"disagree", c.disagree}};
+}
+
+void printFitComparison(const MerlFitComparison& c) {
+  std::printf("  albedo of the published fits of %s (mean RGB; r g b):\n", c.name.c_str());
+  for (const FitAlbedos& f : c.fits) {
+    std::printf("    %-9s", fitModelName(f.model));
+    for (std::size_t a = 0; a < f.albedo.size(); ++a)
+      std::printf("  %2.0f deg %.3f (%.3f %.3f %.3f)", c.theta_o_deg[a], f.albedo[a].average(), f.albedo[a].r,
+                  f.albedo[a].g, f.albedo[a].b);
+    std::printf("\n");
+  }
+  if (c.fits.size() < 2) {
+    std::printf("  only one fit of %s: nothing to compare\n", c.name.c_str());
+  } else if (c.disagree) {
+    std::printf("warning: the fits of %s disagree: albedos differ by %.0f%% at %.0f deg (threshold %.0f%%)\n",
+                c.name.c_str(), 100.0 * c.spread, c.spread_theta_o_deg, 100.0 * c.threshold);
+  } else {
+    std::printf("  the fits agree within %.0f%% (largest difference %.1f%% at %.0f deg)\n", 100.0 * c.threshold,
+                100.0 * c.spread, c.spread_theta_o_deg);
+  }
+}
+
+}  // namespace btf::datagen

@@ -1,0 +1,147 @@
+#include "btf/material/rgl_brdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+
+namespace btf {
+namespace {
+
+// Unit coordinates of the file: theta through a square root (dense near the pole, where glossy
+// lobes are), phi over [-pi, pi).
+float thetaToUnit(float theta) { return std::sqrt(std::max(theta, 0.0f) * (2.0f / kPi)); }
+float unitToTheta(float u) { return u * u * kHalfPi; }
+float phiToUnit(float phi) {
+  const float u = (phi + kPi) * kInv2Pi;
+  return u - std::floor(u);  // relative azimuths span (-2 pi, 2 pi); wrap onto [0, 1)
+}
+
+// d(solid angle of m) / d(u_m) = sin(theta_m) dtheta/du_x dphi/du_y = sin(theta_m) (pi u_x) (2 pi).
+float unitToSolidAngleJacobian(float u_x, float sin_theta_m) { return 2.0f * kPi * kPi * u_x * sin_theta_m; }
+
+std::vector<float> floatsOf(const TensorField& field) { return field.toFloats(); }
+
+}  // namespace
+
+RglBrdf::RglBrdf(const std::filesystem::path& path) : RglBrdf(readTensorFile(path)) {}
+
+RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
+  const auto& path = file.path;
+  if (!file.find("rgb") && file.find("spectra"))
+    throw FileError(path, "spectral RGL file (field 'spectra'): only RGB files (field 'rgb', the *_rgb.bsdf "
+                          "downloads) are supported");
+  const TensorField& phi_i = file.require("phi_i", TensorDtype::Float32, {-1});
+  if (phi_i.shape[0] != 1)
+    throw FileError(path, "anisotropic RGL file (phi_i has " + std::to_string(phi_i.shape[0]) +
+                              " values): only isotropic files (one phi_i) are supported");
+  const TensorField& theta_i = file.require("theta_i", TensorDtype::Float32, {-1});
+  theta_o_ = floatsOf(theta_i);
+  const auto n_theta = static_cast<std::int64_t>(theta_o_.size());
+  if (n_theta < 2) throw FileError(path, "field 'theta_i' needs at least 2 values");
+  for (std::size_t k = 0; k < theta_o_.size(); ++k)
+    if (theta_o_[k] < 0.0f || theta_o_[k] > kHalfPi + 1e-4f || (k > 0 && !(theta_o_[k] > theta_o_[k - 1])))
+      throw FileError(path, "field 'theta_i' must increase strictly within [0, pi/2]");
+
+  const TensorField& ndf = file.require("ndf", TensorDtype::Float32, {-1, -1});
+  const TensorField& sigma = file.require("sigma", TensorDtype::Float32, {-1, -1});
+  const TensorField& vndf = file.require("vndf", TensorDtype::Float32, {1, n_theta, -1, -1});
+  const TensorField& luminance = file.require("luminance", TensorDtype::Float32, {1, n_theta, -1, -1});
+  const auto res_y = static_cast<std::int64_t>(luminance.shape[2]), res_x = static_cast<std::int64_t>(luminance.shape[3]);
+  const TensorField& rgb = file.require("rgb", TensorDtype::Float32, {1, n_theta, 3, res_y, res_x});
+  const TensorField& jacobian = file.require("jacobian", TensorDtype::UInt8, {1});
+  jacobian_ = std::to_integer<int>(jacobian.bytes[0]) != 0;
+  if (const TensorField* d = file.find("description")) {
+    if (d->dtype != TensorDtype::UInt8 || d->shape.size() != 1)
+      throw FileError(path, "field 'description' must be u8 text of rank 1");
+    description_ = d->toText();
+  }
+
+  const std::vector<float> sigma_values = floatsOf(sigma);
+  for (const float s : sigma_values)
+    if (!(s > 0.0f)) throw FileError(path, "field 'sigma' (projected area) holds a value <= 0");
+  const std::vector<float> ndf_values = floatsOf(ndf);
+  for (const float d : ndf_values)
+    if (d < 0.0f) throw FileError(path, "field 'ndf' holds a negative value");
+
+  // Build each grid; a construction error names the field (slice k is theta_i[k], times 3 + channel
+  // for rgb).
+  auto build = [&](const char* name, const TensorField& field, int w, int h, std::vector<std::vector<float>> params,
+                   BilinearWarp2D::Mode mode) {
+    try {
+      return BilinearWarp2D(w, h, floatsOf(field), std::move(params), mode);
+    } catch (const FileError&) {
+      throw;
+    } catch (const Error& e) {
+      throw FileError(path, "field '" + std::string(name) + "' " + field.shapeString() + ": " + e.what());
+    }
+  };
+  using Mode = BilinearWarp2D::Mode;
+  auto dim = [](const TensorField& f, std::size_t i) { return static_cast<int>(f.shape[i]); };
+  ndf_ = build("ndf", ndf, dim(ndf, 1), dim(ndf, 0), {}, Mode::Interpolant);
+  sigma_ = build("sigma", sigma, dim(sigma, 1), dim(sigma, 0), {}, Mode::Interpolant);
+  vndf_ = build("vndf", vndf, dim(vndf, 3), dim(vndf, 2), {theta_o_}, Mode::Distribution);
+  luminance_ = build("luminance", luminance, dim(luminance, 3), dim(luminance, 2), {theta_o_}, Mode::Distribution);
+  rgb_ = build("rgb", rgb, dim(rgb, 4), dim(rgb, 3), {theta_o_, {0.0f, 1.0f, 2.0f}}, Mode::Interpolant);
+}
+
+Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, float theta_o) const {
+  Rgb f;
+  for (int c = 0; c < 3; ++c) {
+    const float params[2] = {theta_o, static_cast<float>(c)};
+    // Negative values are spectral data outside the RGB gamut; the reference loader clips them.
+    f[c] = std::max(rgb_.eval(s, params), 0.0f);
+  }
+  if (jacobian_) f *= ndf_.eval(u_m) / (4.0f * sigma_.eval(u_o));
+  return f;
+}
+
+Rgb RglBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (wi.z <= 0.0f || wo.z <= 0.0f) return {};
+  const glm::vec3 m = glm::normalize(wi + wo);
+  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
+  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
+  const glm::vec2 u_m(thetaToUnit(sphericalTheta(m)), phiToUnit(std::atan2(m.y, m.x) - phi_o));
+  const float params[1] = {theta_o};
+  const glm::vec2 s = vndf_.invert(u_m, params).p;
+  // The tables hold f cos(theta_i) (what a renderer multiplies by anyway); f itself divides it out.
+  return reflectanceTimesCos(s, u_m, u_o, theta_o) / wi.z;
+}
+
+std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
+  if (wo.z <= 0.0f) return std::nullopt;
+  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
+  const float params[1] = {theta_o};
+  const auto [s, luminance_pdf] = luminance_.sample(u, params);
+  const auto [u_m, vndf_pdf] = vndf_.sample(s, params);
+  const float theta_m = unitToTheta(u_m.x);
+  const glm::vec3 m = sphericalDirection(theta_m, u_m.y * kTwoPi - kPi + phi_o);
+  const float wo_dot_m = glm::dot(wo, m);
+  if (wo_dot_m <= 0.0f) return std::nullopt;  // back-facing m: interpolation leaked past the horizon
+  const glm::vec3 wi = 2.0f * wo_dot_m * m - wo;
+  if (wi.z <= 0.0f) return std::nullopt;
+  const float jacobian = unitToSolidAngleJacobian(u_m.x, std::sin(theta_m)) * 4.0f * wo_dot_m;
+  const float pdf = vndf_pdf * luminance_pdf / jacobian;
+  if (!(pdf > 0.0f) || !std::isfinite(pdf)) return std::nullopt;  // the edge of the support
+  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
+  return BsdfSample{wi, reflectanceTimesCos(s, u_m, u_o, theta_o) / pdf, pdf};
+}
+
+float RglBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (wi.z <= 0.0f || wo.z <= 0.0f) return 0.0f;
+  const glm::vec3 m = glm::normalize(wi + wo);
+  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
+  const glm::vec2 u_m(thetaToUnit(sphericalTheta(m)), phiToUnit(std::atan2(m.y, m.x) - phi_o));
+  const float params[1] = {theta_o};
+  const auto [s, vndf_pdf] = vndf_.invert(u_m, params);
+  const float jacobian = unitToSolidAngleJacobian(u_m.x, std::hypot(m.x, m.y)) * 4.0f * glm::dot(wo, m);
+  if (!(jacobian > 0.0f)) return 0.0f;  // m exactly at the pole, where u_m has no extent
+  const float pdf = vndf_pdf * luminance_.eval(s, params) / jacobian;
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+std::string RglBrdf::name() const { return "rgl(" + stem_ + ")"; }
+
+}  // namespace btf

@@ -1,0 +1,210 @@
+#include "btf/sampling/bilinear_warp2d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "btf/core/error.h"
+
+namespace btf {
+namespace {
+
+// The largest i in [0, n - 2] with below(i) true, or 0 if there is none; below must be true on a
+// prefix of the indices (a monotone predicate), as it is for a CDF compared with a target.
+template <typename Predicate>
+int findInterval(int n, const Predicate& below) {
+  int lo = 0, hi = n - 2;  // answer in [lo, hi]
+  while (lo < hi) {
+    const int mid = (lo + hi + 1) / 2;
+    if (below(mid)) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+// The t in [0, 1] at which a density that is linear from d0 (t = 0) to d1 (t = 1) has integrated
+// to `mass`: d0 t + (d1 - d0) t^2 / 2 = mass. This form of the quadratic's root has no
+// cancellation and needs no special case for d0 == d1 (where it gives mass / d0).
+float solveLinearCdf(float d0, float d1, float mass) {
+  const float denom = d0 + std::sqrt(std::max(d0 * d0 + 2.0f * (d1 - d0) * mass, 0.0f));
+  if (!(denom > 0.0f)) return 0.0f;
+  return std::clamp(2.0f * mass / denom, 0.0f, 1.0f);
+}
+
+float lerp(float a, float b, float t) { return (1.0f - t) * a + t * b; }
+
+}  // namespace
+
+BilinearWarp2D::BilinearWarp2D(int width, int height, std::span<const float> data,
+                               std::vector<std::vector<float>> param_values, Mode mode)
+    : width_(width), height_(height), mode_(mode), param_values_(std::move(param_values)) {
+  if (width < 2 || height < 2) throw Error("bilinear warp: the grid needs at least 2 x 2 nodes");
+  if (param_values_.size() > kMaxParams) throw Error("bilinear warp: more than 3 parameters");
+  std::size_t slices = 1;
+  for (int d = static_cast<int>(param_values_.size()) - 1; d >= 0; --d) {
+    const auto& values = param_values_[d];
+    if (values.empty()) throw Error("bilinear warp: a parameter has no values");
+    for (std::size_t i = 1; i < values.size(); ++i)
+      if (!(values[i] > values[i - 1]))
+        throw Error("bilinear warp: parameter " + std::to_string(d) + " is not strictly increasing");
+    param_strides_[d] = static_cast<std::uint32_t>(slices);
+    slices *= values.size();
+  }
+  const std::size_t slice_size = static_cast<std::size_t>(width) * height;
+  if (data.size() != slices * slice_size)
+    throw Error("bilinear warp: expected " + std::to_string(slices * slice_size) + " values, got " +
+                std::to_string(data.size()));
+  for (std::size_t i = 0; i < data.size(); ++i)
+    if (!std::isfinite(data[i])) throw Error("bilinear warp: value " + std::to_string(i) + " is not finite");
+  values_.assign(data.begin(), data.end());
+  if (mode == Mode::Distribution) {
+    row_cdf_.resize(values_.size());
+    marginal_cdf_.resize(slices * height);
+    for (std::size_t s = 0; s < slices; ++s) buildDistribution(s);
+  }
+}
+
+void BilinearWarp2D::buildDistribution(std::size_t slice) {
+  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
+  float* values = values_.data() + slice * slice_size;
+  float* row_cdf = row_cdf_.data() + slice * slice_size;
+  float* marginal = marginal_cdf_.data() + slice * height_;
+  const double dx = 1.0 / (width_ - 1), dy = 1.0 / (height_ - 1);
+  for (std::size_t i = 0; i < slice_size; ++i)
+    if (values[i] < 0.0f)
+      throw Error("bilinear warp: slice " + std::to_string(slice) + " holds a negative density value");
+  // Integrals of the bilinear function, in double so that 128 x 128 sums keep float precision.
+  std::vector<double> row_integral(height_);
+  for (int y = 0; y < height_; ++y) {
+    double sum = 0.0;
+    for (int x = 0; x + 1 < width_; ++x)
+      sum += 0.5 * dx * (double(values[y * width_ + x]) + double(values[y * width_ + x + 1]));
+    row_integral[y] = sum;
+  }
+  double total = 0.0;
+  for (int y = 0; y + 1 < height_; ++y) total += 0.5 * dy * (row_integral[y] + row_integral[y + 1]);
+  if (!(total > 0.0) || !std::isfinite(total))
+    throw Error("bilinear warp: slice " + std::to_string(slice) + " has no mass (all values are 0)");
+  const double norm = 1.0 / total;
+  for (std::size_t i = 0; i < slice_size; ++i) values[i] = static_cast<float>(values[i] * norm);
+  double cumulative = 0.0;
+  for (int y = 0; y < height_; ++y) {
+    double sum = 0.0;
+    row_cdf[y * width_] = 0.0f;
+    for (int x = 0; x + 1 < width_; ++x) {
+      sum += 0.5 * dx * (double(values[y * width_ + x]) + double(values[y * width_ + x + 1]));
+      row_cdf[y * width_ + x + 1] = static_cast<float>(sum);
+    }
+    if (y > 0) cumulative += 0.5 * dy * (row_integral[y - 1] + row_integral[y]) * norm;
+    marginal[y] = static_cast<float>(cumulative);
+  }
+}
+
+BilinearWarp2D::SliceBlend BilinearWarp2D::blendFor(std::span<const float> params) const {
+  SliceBlend blend;
+  blend.count = 1;
+  blend.slice[0] = 0;
+  blend.weight[0] = 1.0f;
+  for (std::size_t d = 0; d < param_values_.size(); ++d) {
+    const auto& values = param_values_[d];
+    const int n = static_cast<int>(values.size());
+    if (n == 1) continue;
+    const float p = d < params.size() ? params[d] : values.front();
+    const int i = findInterval(n, [&](int k) { return values[k] <= p; });
+    const float t = std::clamp((p - values[i]) / (values[i + 1] - values[i]), 0.0f, 1.0f);
+    // Each existing corner splits into its lower (weight 1 - t) and upper (weight t) neighbour;
+    // corners of zero weight are dropped so that exact node values read a single slice.
+    SliceBlend next;
+    for (int k = 0; k < blend.count; ++k) {
+      const std::uint32_t base = blend.slice[k] + static_cast<std::uint32_t>(i) * param_strides_[d];
+      if (t < 1.0f) {
+        next.slice[next.count] = base;
+        next.weight[next.count++] = blend.weight[k] * (1.0f - t);
+      }
+      if (t > 0.0f) {
+        next.slice[next.count] = base + param_strides_[d];
+        next.weight[next.count++] = blend.weight[k] * t;
+      }
+    }
+    blend = next;
+  }
+  return blend;
+}
+
+float BilinearWarp2D::blended(const std::vector<float>& values, std::size_t stride, std::size_t index,
+                              const SliceBlend& blend) {
+  float sum = 0.0f;
+  for (int k = 0; k < blend.count; ++k) sum += blend.weight[k] * values[blend.slice[k] * stride + index];
+  return sum;
+}
+
+BilinearWarp2D::Point BilinearWarp2D::sample(glm::vec2 u, std::span<const float> params) const {
+  if (mode_ != Mode::Distribution) throw Error("bilinear warp: sample() needs a distribution");
+  u = glm::clamp(u, 0.0f, 1.0f);
+  const SliceBlend blend = blendFor(params);
+  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
+  const float dx = 1.0f / (width_ - 1), dy = 1.0f / (height_ - 1);
+
+  // Row: the marginal density in y is linear within a row of cells, from r0 to r1 (row integrals).
+  const int row = findInterval(height_, [&](int y) { return blended(marginal_cdf_, height_, y, blend) < u.y; });
+  const std::size_t row0 = static_cast<std::size_t>(row) * width_, row1 = row0 + width_;
+  const float r0 = blended(row_cdf_, slice_size, row0 + width_ - 1, blend);
+  const float r1 = blended(row_cdf_, slice_size, row1 + width_ - 1, blend);
+  const float ty = solveLinearCdf(r0, r1, (u.y - blended(marginal_cdf_, height_, row, blend)) / dy);
+
+  // Column: the conditional CDF at this y blends the two rows' CDFs; its total is the marginal
+  // density lerp(r0, r1, ty), so u.x scaled by it is the mass to reach.
+  const float target = u.x * lerp(r0, r1, ty);
+  auto cdf_at = [&](int x) {
+    return lerp(blended(row_cdf_, slice_size, row0 + x, blend), blended(row_cdf_, slice_size, row1 + x, blend), ty);
+  };
+  const int col = findInterval(width_, [&](int x) { return cdf_at(x) < target; });
+  const float c0 = lerp(blended(values_, slice_size, row0 + col, blend), blended(values_, slice_size, row1 + col, blend), ty);
+  const float c1 = lerp(blended(values_, slice_size, row0 + col + 1, blend),
+                        blended(values_, slice_size, row1 + col + 1, blend), ty);
+  const float tx = solveLinearCdf(c0, c1, (target - cdf_at(col)) / dx);
+
+  return {{std::min((col + tx) * dx, 1.0f), std::min((row + ty) * dy, 1.0f)}, lerp(c0, c1, tx)};
+}
+
+BilinearWarp2D::Point BilinearWarp2D::invert(glm::vec2 p, std::span<const float> params) const {
+  if (mode_ != Mode::Distribution) throw Error("bilinear warp: invert() needs a distribution");
+  p = glm::clamp(p, 0.0f, 1.0f);
+  const SliceBlend blend = blendFor(params);
+  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
+  const float dx = 1.0f / (width_ - 1), dy = 1.0f / (height_ - 1);
+  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
+  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
+  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
+  const std::size_t row0 = static_cast<std::size_t>(row) * width_, row1 = row0 + width_;
+
+  const float c0 = lerp(blended(values_, slice_size, row0 + col, blend), blended(values_, slice_size, row1 + col, blend), ty);
+  const float c1 = lerp(blended(values_, slice_size, row0 + col + 1, blend),
+                        blended(values_, slice_size, row1 + col + 1, blend), ty);
+  const float cdf_col = lerp(blended(row_cdf_, slice_size, row0 + col, blend),
+                             blended(row_cdf_, slice_size, row1 + col, blend), ty);
+  const float r0 = blended(row_cdf_, slice_size, row0 + width_ - 1, blend);
+  const float r1 = blended(row_cdf_, slice_size, row1 + width_ - 1, blend);
+  const float row_mass = lerp(r0, r1, ty);
+
+  glm::vec2 u;
+  const float mass_x = cdf_col + dx * tx * (c0 + 0.5f * (c1 - c0) * tx);
+  u.x = row_mass > 0.0f ? std::min(mass_x / row_mass, 1.0f) : 0.0f;
+  u.y = blended(marginal_cdf_, height_, row, blend) + dy * ty * (r0 + 0.5f * (r1 - r0) * ty);
+  return {glm::min(u, glm::vec2(1.0f)), lerp(c0, c1, tx)};
+}
+
+float BilinearWarp2D::eval(glm::vec2 p, std::span<const float> params) const {
+  p = glm::clamp(p, 0.0f, 1.0f);
+  const SliceBlend blend = blendFor(params);
+  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
+  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
+  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
+  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
+  const std::size_t i00 = static_cast<std::size_t>(row) * width_ + col, i01 = i00 + width_;
+  const float v0 = lerp(blended(values_, slice_size, i00, blend), blended(values_, slice_size, i00 + 1, blend), tx);
+  const float v1 = lerp(blended(values_, slice_size, i01, blend), blended(values_, slice_size, i01 + 1, blend), tx);
+  return lerp(v0, v1, ty);
+}
+
+}  // namespace btf

@@ -1,0 +1,88 @@
+// Samples per second (sample + pdf of the drawn direction, as a renderer doing MIS calls them) of
+// the RGL warp sampler (luminance warp, then VNDF warp; Dupuy & Jakob 2018) per shared RGL file,
+// next to evaluations per second. Single thread. Views are drawn before timing, cosine-weighted
+// over the hemisphere, so each figure averages over incidences.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "btf/core/rng.h"
+#include "btf/material/rgl_brdf.h"
+#include "btf/sampling/warp.h"
+
+namespace {
+
+const char* const kFiles[] = {"cc_ibiza_sunset_rgb", "paper_white_rgb", "vch_golden_yellow_rgb"};
+constexpr std::size_t kDirections = 4096;
+
+std::unique_ptr<btf::RglBrdf> load(benchmark::State& state) {
+  const std::filesystem::path path =
+      std::filesystem::path(BTF_SHARED_DATA_DIR) / "rgl_bsdf" / (std::string(kFiles[state.range(0)]) + ".bsdf");
+  if (!std::filesystem::exists(path)) {
+    state.SkipWithError(("missing " + path.string()).c_str());
+    return nullptr;
+  }
+  state.SetLabel(kFiles[state.range(0)]);
+  return std::make_unique<btf::RglBrdf>(path);
+}
+
+std::vector<glm::vec3> directions(std::uint64_t seed) {
+  btf::Rng rng(seed, 0);
+  std::vector<glm::vec3> out(kDirections);
+  for (auto& w : out) w = btf::squareToCosineHemisphere(rng.uniform2D());
+  return out;
+}
+
+void BM_RglSampleAndPdf(benchmark::State& state) {
+  const auto material = load(state);
+  if (!material) return;
+  const std::vector<glm::vec3> views = directions(1);
+  btf::Rng rng(2, 0);
+  std::vector<glm::vec2> u(kDirections);
+  for (auto& x : u) x = rng.uniform2D();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto s = material->sample(views[i], {}, u[i]);
+    float pdf = 0.0f;
+    if (s) pdf = material->pdf(s->wi, views[i]);
+    benchmark::DoNotOptimize(pdf);
+    i = (i + 1) % kDirections;
+  }
+  state.counters["samples_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_RglSampleOnly(benchmark::State& state) {
+  const auto material = load(state);
+  if (!material) return;
+  const std::vector<glm::vec3> views = directions(1);
+  btf::Rng rng(2, 0);
+  std::vector<glm::vec2> u(kDirections);
+  for (auto& x : u) x = rng.uniform2D();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(material->sample(views[i], {}, u[i]));
+    i = (i + 1) % kDirections;
+  }
+  state.counters["samples_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_RglEval(benchmark::State& state) {
+  const auto material = load(state);
+  if (!material) return;
+  const std::vector<glm::vec3> wi = directions(3), wo = directions(4);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(material->eval(wi[i], wo[i]));
+    i = (i + 1) % kDirections;
+  }
+  state.counters["evals_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+BENCHMARK(BM_RglSampleAndPdf)->DenseRange(0, 2);
+BENCHMARK(BM_RglSampleOnly)->DenseRange(0, 2);
+BENCHMARK(BM_RglEval)->DenseRange(0, 2);
