@@ -14,12 +14,13 @@
 #include "btf/material/albedo.h"
 #include "btf/material/tabulated_brdf.h"
 #include "acquisition_response.h"
-#include "merl_fit_commands.h"
+#include "merl_fit_report.h"
 #include "presets.h"
 #include "table_artifacts.h"
-#include "../tools/cli/terminal.h"
+#include "terminal.h"
 
 namespace btf::datagen {
+using namespace btf::tools;
 namespace {
 
 // The incidence angles `btf info` reports, so its output can be compared line by line.
@@ -227,7 +228,7 @@ int main(int argc, char** argv) {
                  "Print the analytic f (with tint and falloff) at THETA_I PHI_I THETA_O PHI_O degrees; writes nothing")
       ->expected(4);
   app.add_flag("--json", o.json, "Machine-readable output");
-  btf::cli::installTerminalHooks();
+  btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);
     btf::datagen::run(o);

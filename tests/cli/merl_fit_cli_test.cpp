@@ -59,7 +59,8 @@ TEST(MerlFitCli, CleanTableHoldsTheFormulaAtItsSamplesAndInterpolatesBetween) {
   }
 
   // Between samples, TabulatedBrdf interpolates: random directions up to 70 degrees stay within
-  // the table's interpolation error (measured: median 0.3%, 99th percentile under 5%).
+  // the table's interpolation error (measured: median 0.07%, 99th percentile 0.4%; the bounds
+  // below leave a margin of about 7).
   const TabulatedBrdf tabulated(table);
   std::vector<double> errors;
   for (int n = 0; n < 2000; ++n) {
@@ -69,8 +70,10 @@ TEST(MerlFitCli, CleanTableHoldsTheFormulaAtItsSamplesAndInterpolatesBetween) {
     errors.push_back(std::abs(tabulated.eval(wi, wo).g - expected) / expected);
   }
   std::sort(errors.begin(), errors.end());
-  EXPECT_LT(errors[errors.size() / 2], 0.01) << "median relative interpolation error";
-  EXPECT_LT(errors[errors.size() * 99 / 100], 0.08) << "99th percentile relative interpolation error";
+  RecordProperty("median_relative_error", std::to_string(errors[errors.size() / 2]));
+  RecordProperty("p99_relative_error", std::to_string(errors[errors.size() * 99 / 100]));
+  EXPECT_LT(errors[errors.size() / 2], 0.005) << "median relative interpolation error";
+  EXPECT_LT(errors[errors.size() * 99 / 100], 0.03) << "99th percentile relative interpolation error";
 }
 
 TEST(MerlFitCli, ListsEveryNameWithItsModels) {
@@ -143,6 +146,37 @@ TEST(MerlFitCli, MeasurementEffectsApplyToFitsAsToPresets) {
     measured_holes += !measured.isMeasured(i);
   }
   EXPECT_GT(measured_holes, clean_holes);
+}
+
+}  // namespace btf::test
+
+namespace btf::test {
+
+TEST(MerlFitCli, InfoComparesAFileNamedAfterAMerlMaterialWithItsPublishedFits) {
+  TempDir dir;
+  // MERL names its files after the material; info recognises the name and shows the fits.
+  const auto named = dir / "chrome.binary";
+  ASSERT_EQ(runDatagen({"--merl-fit", "chrome", "--model", "sgd", "--clean", "-o", named.string()}).exit_code, 0);
+  const CommandResult text = runBtf({"info", named.string()});
+  ASSERT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_NE(text.output.find("published fits of chrome"), std::string::npos) << text.output;
+  const nlohmann::json json = parseJsonOutput(runBtf({"info", named.string(), "--json"}));
+  const nlohmann::json& fits = json["published_fits"];
+  ASSERT_TRUE(fits.is_object()) << json.dump(2);
+  EXPECT_EQ(fits["fits"].size(), 3u);
+  // The flag is the stated rule applied to the stated numbers, and the text says the same.
+  EXPECT_EQ(fits["disagree"].get<bool>(), fits["spread"].get<double>() > fits["threshold"].get<double>());
+  EXPECT_EQ(text.output.find("warning: the fits of chrome disagree") != std::string::npos, fits["disagree"].get<bool>());
+
+  // Any other name: no comparison, unless asked for by --fits-of; an unknown --fits-of fails.
+  const auto other = dir / "sample.binary";
+  std::filesystem::copy_file(named, other);
+  EXPECT_TRUE(parseJsonOutput(runBtf({"info", other.string(), "--json"}))["published_fits"].is_null());
+  EXPECT_NE(runBtf({"info", other.string(), "--fits-of", "chrome"}).output.find("published fits of chrome"),
+            std::string::npos);
+  const CommandResult unknown = runBtf({"info", other.string(), "--fits-of", "chrom"});
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.output.find("did you mean chrome"), std::string::npos) << unknown.output;
 }
 
 }  // namespace btf::test

@@ -1,11 +1,13 @@
 // `btf info FILE`: compact facts about a measured table, like oiiotool's iinfo.
 #include <nlohmann/json.hpp>
 
+
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "btf/material/rgl_brdf.h"
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
+#include "merl_fit_report.h"
 #include "measured_file.h"
 
 namespace btf::cli {
@@ -100,7 +103,7 @@ void runRglInfo(const std::string& file, bool json) {
                 a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
 }
 
-void runInfo(const std::string& file, bool json) {
+void runInfo(const std::string& file, bool json, const std::string& fits_of) {
   const MeasuredFormat format = measuredFormatOf(file);
   if (format == MeasuredFormat::RglTensor) return runRglInfo(file, json);
   auto table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
@@ -111,6 +114,7 @@ void runInfo(const std::string& file, bool json) {
 
   const TabulatedBrdf brdf(table, TableLookup::Interpolated);
   const nlohmann::json albedo = albedoJson(brdf);
+  const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, fits_of);
 
   if (json) {
     std::cout << nlohmann::json{
@@ -120,7 +124,8 @@ void runInfo(const std::string& file, bool json) {
                      {"samples", total},
                      {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
                      {"f_measured", {{"min", rgbJson(stats.min)}, {"max", rgbJson(stats.max)}, {"mean", rgbJson(stats.mean)}}},
-                     {"albedo", albedo}}
+                     {"albedo", albedo},
+                     {"published_fits", fits ? tools::comparisonJson(*fits) : nlohmann::json()}}
                      .dump(2)
               << "\n";
     return;
@@ -138,6 +143,7 @@ void runInfo(const std::string& file, bool json) {
   for (const auto& a : albedo)
     std::printf("    theta_o %2.0f deg  %.4f %.4f %.4f\n", a["theta_o_deg"].get<float>(), a["rgb"][0].get<float>(),
                 a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
+  if (fits) tools::printFitComparison(*fits);
 }
 
 }  // namespace
@@ -148,8 +154,12 @@ void registerInfoCommand(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   cmd->add_option("FILE", *file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
+  auto fits_of = std::make_shared<std::string>();
   cmd->add_flag("--json", *json, "Machine-readable output");
-  cmd->callback([file, json] { runInfo(*file, *json); });
+  cmd->add_option("--fits-of", *fits_of,
+                  "Compare with the published fits (SGD, ABC, Lafortune) of this MERL material; by default a file "
+                  "named after a MERL material (gold-metallic-paint.binary) is compared with its fits");
+  cmd->callback([file, json, fits_of] { runInfo(*file, *json, *fits_of); });
 }
 
 }  // namespace btf::cli

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   btf::cli::registerEvalCommand(app);
   btf::cli::registerConvertCommand(app);
   btf::cli::registerPlotCommand(app);
-  btf::cli::installTerminalHooks();
+  btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

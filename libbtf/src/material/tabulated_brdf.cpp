@@ -226,7 +226,10 @@ MerlTable tabulate(const Material& material) {
             table.setUnmeasured(c);
             continue;
           }
-          const Rgb f = material.eval(pair.wi, pair.wo);
+          // A cell stands for both (wi, wo) and the swapped pair (phi_d + pi): store their mean,
+          // the reciprocal part. Equal for reciprocal models; for measured data that is not
+          // exactly reciprocal it avoids a seam where the lookup folds phi_d onto [0, pi).
+          const Rgb f = 0.5f * (material.eval(pair.wi, pair.wo) + material.eval(pair.wo, pair.wi));
           if (!f.isFinite())
             throw Error("tabulate: " + material.name() + " returned a non-finite value at theta_h index " +
                         std::to_string(i) + ", theta_d index " + std::to_string(j) + ", phi_d index " +

@@ -56,7 +56,8 @@ class TabulatedBrdf final : public Material {
 };
 
 // Tabulates any isotropic material into the MERL layout by evaluating it at each cell's angles
-// (phi_h = 0). Cells whose sample directions lie below the horizon (wi.z <= 0 or wo.z <= 0) hold
+// (phi_h = 0), storing the mean of f(wi, wo) and f(wo, wi): a MERL cell stands for both, so a
+// material that is not exactly reciprocal (measured data) is stored by its reciprocal part. Cells whose sample directions lie below the horizon (wi.z <= 0 or wo.z <= 0) hold
 // nothing measurable and are marked unmeasured, so interpolation near grazing angles blends only
 // valid samples instead of zeros. Parallel over theta_h rows; the result does not depend on the
 // thread count.

@@ -1,4 +1,7 @@
-#include "merl_fit_commands.h"
+#include "merl_fit_report.h"
+
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -6,7 +9,7 @@
 
 #include "btf/core/error.h"
 
-namespace btf::datagen {
+namespace btf::tools {
 namespace fs = std::filesystem;
 
 namespace {
@@ -34,6 +37,25 @@ MerlFits loadMerlFits(const std::string& fits_dir_option) {
   // An explicit folder that lacks the tables is a mistake to report, not to paper over.
   if (!fits_dir_option.empty()) return MerlFits::load(findMerlFitsFolder({fits_dir_option}));
   return MerlFits::load(findMerlFitsFolder({BTF_FITS_BUILD_DIR, installedFitsFolder()}));
+}
+
+std::optional<MerlFitComparison> compareFitsOfFile(const std::filesystem::path& file, const std::string& name) {
+  const std::string wanted = name.empty() ? file.stem().string() : name;
+  std::optional<MerlFits> fits;
+  try {
+    fits = loadMerlFits("");
+  } catch (const Error& e) {
+    log(LogLevel::Info, std::string("no comparison with published fits: ") + e.what());
+    return std::nullopt;
+  }
+  std::string canonical;
+  try {
+    canonical = fits->resolve(wanted);
+  } catch (const Error&) {
+    if (name.empty()) return std::nullopt;  // a file not named after a MERL material
+    throw;                                  // an explicit name that is no MERL material
+  }
+  return compareMerlFits(*fits, canonical, kFitDisagreementThreshold);
 }
 
 void listMerlFits(const MerlFits& fits, bool json) {
@@ -90,4 +112,4 @@ void printFitComparison(const MerlFitComparison& c) {
   }
 }
 
-}  // namespace btf::datagen
+}  // namespace btf::tools

@@ -2,9 +2,9 @@
 // silence when it is not; warnings always go to stderr.
 #pragma once
 
-namespace btf::cli {
+namespace btf::tools {
 
 // Installs libbtf's log and progress hooks for a terminal program.
 void installTerminalHooks();
 
-}  // namespace btf::cli
+}  // namespace btf::tools

@@ -7,7 +7,7 @@
 
 #include "btf/core/progress.h"
 
-namespace btf::cli {
+namespace btf::tools {
 
 void installTerminalHooks() {
   setLogHook([](LogLevel level, std::string_view message) {
@@ -26,4 +26,4 @@ void installTerminalHooks() {
   });
 }
 
-}  // namespace btf::cli
+}  // namespace btf::tools
