@@ -25,6 +25,8 @@ class AcquisitionResponse final : public Material {
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override { return label_; }
   bool isAnisotropic() const override { return base_->isAnisotropic(); }
+  // The response multiplies f by one factor per direction, so it keeps reciprocity.
+  bool isReciprocal() const override { return base_->isReciprocal(); }
 
  private:
   // tint * grazing response of both directions; reciprocal because it is symmetric in wi and wo.

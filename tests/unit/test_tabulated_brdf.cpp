@@ -319,6 +319,35 @@ TEST(TabulatedBrdfSampling, PdfIntegratesToOne) {
   EXPECT_NEAR(sum / kN, 1.0, 0.01);
 }
 
+// A smooth material that is deliberately not reciprocal: f grows with the light's elevation only.
+class LightElevationWeighted final : public Material {
+ public:
+  Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 = {}) const override {
+    if (wi.z <= 0 || wo.z <= 0) return {};
+    return Rgb((0.2f + 0.6f * wi.z) * kInvPi);
+  }
+  std::optional<BsdfSample> sample(const glm::vec3&, glm::vec2, glm::vec2) const override { return std::nullopt; }
+  float pdf(const glm::vec3&, const glm::vec3&, glm::vec2 = {}) const override { return 0; }
+  std::string name() const override { return "light-elevation-weighted"; }
+};
+
+TEST(Tabulate, StoresTheReciprocalMeanOfANonReciprocalMaterial) {
+  const LightElevationWeighted material;
+  ASSERT_FALSE(material.isReciprocal());
+  const TabulatedBrdf table(std::make_shared<const MerlTable>(tabulate(material)));
+  Rng rng(11);
+  double worst = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const glm::vec3 wi = sphericalDirection(rng.uniform() * 1.3f, rng.uniform() * kTwoPi);
+    const glm::vec3 wo = sphericalDirection(rng.uniform() * 1.3f, rng.uniform() * kTwoPi);
+    const float mean = 0.5f * (material.eval(wi, wo).r + material.eval(wo, wi).r);
+    worst = std::max(worst, double(std::abs(table.eval(wi, wo).r - mean) / mean));
+  }
+  // f is linear in cos(theta_i), so the only error left is the table's interpolation of it.
+  EXPECT_LT(worst, 0.01) << "one order alone would differ by up to "
+                         << (0.2 + 0.6 * 1.0) / (0.2 + 0.6 * std::cos(1.3)) - 1;
+}
+
 TEST(Tabulate, ResultDoesNotDependOnTheThreadCount) {
   const Ggx ggx(Rgb(0.2f), Rgb(0.9f, 0.6f, 0.3f), 0.2f, 0.2f);
   MerlTable one, two;

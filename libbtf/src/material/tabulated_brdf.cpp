@@ -211,6 +211,7 @@ std::string TabulatedBrdf::name() const {
 MerlTable tabulate(const Material& material) {
   MerlTable table;
   Progress progress("tabulate " + material.name(), kNh);
+  const bool reciprocal = material.isReciprocal();
   // Each cell depends only on its own angles, so any split over threads gives the same table.
   tbb::parallel_for(tbb::blocked_range<int>(0, kNh), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i != range.end(); ++i) {
@@ -227,9 +228,10 @@ MerlTable tabulate(const Material& material) {
             continue;
           }
           // A cell stands for both (wi, wo) and the swapped pair (phi_d + pi): store their mean,
-          // the reciprocal part. Equal for reciprocal models; for measured data that is not
-          // exactly reciprocal it avoids a seam where the lookup folds phi_d onto [0, pi).
-          const Rgb f = 0.5f * (material.eval(pair.wi, pair.wo) + material.eval(pair.wo, pair.wi));
+          // the reciprocal part. For measured data that is not exactly reciprocal this avoids a
+          // seam where the lookup folds phi_d onto [0, pi); reciprocal models need one eval.
+          const Rgb f = reciprocal ? material.eval(pair.wi, pair.wo)
+                                   : 0.5f * (material.eval(pair.wi, pair.wo) + material.eval(pair.wo, pair.wi));
           if (!f.isFinite())
             throw Error("tabulate: " + material.name() + " returned a non-finite value at theta_h index " +
                         std::to_string(i) + ", theta_d index " + std::to_string(j) + ", phi_d index " +

@@ -36,6 +36,7 @@ class Abc final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
+  bool isReciprocal() const override { return true; }
 
   const AbcParameters& parameters() const { return parameters_; }
   // Unpolarized Fresnel reflectance of a dielectric of index ior at cos(angle of incidence).

@@ -33,6 +33,7 @@ class Lafortune final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
+  bool isReciprocal() const override { return true; }
   bool isAnisotropic() const override;
 
   const Rgb& diffuseAlbedo() const { return kd_; }

@@ -34,6 +34,10 @@ class Material {
   virtual std::string name() const = 0;
   // True when f depends on the azimuth of the half vector (phi_h) and not only on relative angles.
   virtual bool isAnisotropic() const { return false; }
+  // True when eval(wi, wo) == eval(wo, wi) by construction (Helmholtz reciprocity). False, the
+  // safe default, for measured data that is only approximately reciprocal; tabulate() then stores
+  // the mean of both orders.
+  virtual bool isReciprocal() const { return false; }
 };
 
 }  // namespace btf

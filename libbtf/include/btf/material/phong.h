@@ -18,6 +18,7 @@ class Phong final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
+  bool isReciprocal() const override { return true; }
 
  private:
   Rgb kd_, ks_;

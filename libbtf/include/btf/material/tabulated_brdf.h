@@ -34,6 +34,8 @@ class TabulatedBrdf final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
+  // One cell stands for both orders of a pair (the phi_d fold), so lookups are reciprocal.
+  bool isReciprocal() const override { return true; }
 
   const MerlTable& table() const { return *table_; }
   TableLookup lookup() const { return lookup_; }

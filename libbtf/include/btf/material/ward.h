@@ -21,6 +21,7 @@ class Ward final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
+  bool isReciprocal() const override { return true; }
   bool isAnisotropic() const override { return alpha_x_ != alpha_y_; }
 
  private:
