@@ -10,5 +10,7 @@ void registerInfoCommand(CLI::App& app);
 void registerEvalCommand(CLI::App& app);
 void registerConvertCommand(CLI::App& app);
 void registerPlotCommand(CLI::App& app);
+void registerSampleCommand(CLI::App& app);
+void registerBenchCommand(CLI::App& app);
 
 }  // namespace btf::cli

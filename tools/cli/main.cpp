@@ -1,4 +1,4 @@
-// `btf`: inspect, evaluate, convert and plot measured materials.
+// `btf`: inspect, evaluate, convert, plot, sample and benchmark measured materials.
 #include <cstdio>
 #include <exception>
 
@@ -7,13 +7,15 @@
 #include "terminal.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot)", "btf"};
+  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot, sample, bench)", "btf"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "btf 0.1.0");
   btf::cli::registerInfoCommand(app);
   btf::cli::registerEvalCommand(app);
   btf::cli::registerConvertCommand(app);
   btf::cli::registerPlotCommand(app);
+  btf::cli::registerSampleCommand(app);
+  btf::cli::registerBenchCommand(app);
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);

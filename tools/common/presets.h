@@ -1,5 +1,6 @@
-// Named materials for btf-datagen, from diffuse to near-mirror. Each builds the isotropic material
-// that a MERL table of it represents (anisotropic models are averaged over phi_h, see azimuthal_average.h).
+// Named materials of btf-datagen (and the generator materials of `btf bench sampling`), from
+// diffuse to near-mirror. Each builds the isotropic material that a MERL table of it represents
+// (anisotropic models are averaged over phi_h, see azimuthal_average.h).
 #pragma once
 
 #include <functional>

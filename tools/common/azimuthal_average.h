@@ -23,6 +23,8 @@ class AzimuthalAverage final : public Material {
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override { return base_->name() + " averaged over phi_h"; }
+  // Rotating both directions together keeps reciprocity, and so does averaging over rotations.
+  bool isReciprocal() const override { return base_->isReciprocal(); }
 
  private:
   std::shared_ptr<const Material> base_;

@@ -1,0 +1,228 @@
+// Common ground of the tabulated importance samplers (reference tables, Douglas-Peucker CDFs,
+// quadtree rejection): each wraps any Material, tabulates it through eval(), and is a Material
+// itself (eval forwards to the wrapped one; sample and pdf come from the tables).
+//
+// Outgoing bins. theta_o is cut into theta_o_bins equal-angle bins; an anisotropic material
+// (isAnisotropic()) also gets phi_o_bins equal bins of phi_o. Each bin holds a distribution of
+// wi tabulated for the bin's central wo. A query wo uses its nearest bin; since sample() and
+// pdf() use the same bin, the pdf is exact for any wo (only how well it follows f depends on the
+// bin width). For an isotropic material only theta_o is binned: wi is rotated about the normal by
+// -phi_o into the bin's frame (where wo lies in the xz-plane at phi = 0) and back.
+//
+// Incoming parameterization. (s, t) in [0,1)^2 with s = cos(theta_i) and t = phi_i / (2 pi) in the
+// bin's frame. The map has a constant Jacobian, d omega = d cos(theta) d phi = 2 pi ds dt, so a
+// density p(s, t) over the square is the solid-angle density p / (2 pi), and equal areas of the
+// square are equal solid angles (no cell is favoured by the map). The price is uniform resolution:
+// near-mirror lobes need fine grids or adaptivity (the quadtree).
+//
+// What is tabulated: the luminance of f(wi, wo) * cos(theta_i) (as rendering weights it), plus
+// defensive_fraction times its mean over the bin, so that the density is > 0 wherever f may be
+// (the estimator stays unbiased even where the tabulation missed a feature). Values that are NaN,
+// infinite or negative count as 0; how many there were is in stats().invalid_evaluations and
+// reported once per construction through btf::log (Warning). A bin where everything is 0 is
+// empty: sample() returns nothing and pdf() is 0 there.
+//
+// Exactness: sample() returns pdf(wi, wo) computed from the final float direction by the same code
+// as pdf(), so the two agree bit for bit; they differ from the density actually drawn only on cell
+// boundaries of float-rounding width. Construction is parallel over bins (TBB); the tables do not
+// depend on the thread count. All queries are const and thread-safe and allocate nothing.
+//
+// Speed: a query makes one virtual call (sampleQuery / pdfQuery), which the DP and tabulated
+// samplers override with a path that has no further virtual calls, no trigonometric function on wo
+// (the rotation by -phi_o is wo.xy / |wo.xy|) and a table-guided theta_o bin lookup. The generic
+// path through sampleInBin / pdfInBin remains for the quadtree.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "btf/material/material.h"
+#include "btf/sampling/dp_cdf.h"
+
+namespace btf {
+
+enum class SamplerKind { Tabulated, DpCdf, Quadtree };
+std::string_view toString(SamplerKind kind);  // "tabulated", "dp-cdf", "quadtree"
+std::optional<SamplerKind> parseSamplerKind(std::string_view name);
+
+struct SamplerOptions {
+  // Outgoing bins.
+  int theta_o_bins = 32;
+  int phi_o_bins = 16;  // anisotropic materials only
+  // Incoming grid of the tabulated and DP samplers: rows in s = cos(theta_i), columns in phi_i.
+  int cos_theta_bins = 64;
+  int phi_bins = 128;
+  int supersampling = 2;  // eval() at supersampling^2 stratified points per cell, averaged
+  float defensive_fraction = 1e-3f;
+  // DP-CDF: tolerance on every 1D CDF (0 keeps all but collinear nodes; >= 1 keeps endpoints only).
+  float epsilon = 1e-3f;
+  CdfReduction reduction = CdfReduction::DouglasPeucker;
+  // Quadtree: subdivide while max > threshold * mean over a cell's probes and depth < max_depth;
+  // every bin is split to min_depth first; probes per cell = (quadtree_probes + 1)^2.
+  float threshold = 4.0f;
+  int min_depth = 3;
+  int max_depth = 9;
+  int quadtree_probes = 4;
+  int max_tries = 16;  // rejections before the fallback draw (see quadtree_sampler.h)
+};
+
+struct SamplerStats {
+  std::string kind;
+  std::size_t bytes = 0;           // the sampler's own tables (not the wrapped material)
+  std::size_t full_cdf_bytes = 0;  // float CDFs of the full grid (cos_theta_bins x phi_bins), for ratios
+  std::size_t bins = 0, empty_bins = 0;
+  std::size_t elements = 0;        // tabulated: CDF entries; DP: kept vertices; quadtree: leaves
+  double mean_elements_per_cdf = 0;  // DP only: kept vertices per 1D CDF
+  double acceptance_rate = std::numeric_limits<double>::quiet_NaN();      // quadtree: mean over non-empty bins
+  double min_acceptance_rate = std::numeric_limits<double>::quiet_NaN();  // quadtree: worst bin
+  std::uint64_t evaluations = 0;          // eval() calls made while building
+  std::uint64_t invalid_evaluations = 0;  // of which NaN, infinite or negative (counted as 0)
+};
+
+namespace detail {
+
+// cos and sin of 2 pi t for t in [0, 1], without the library's general range reduction: t is in
+// turns, so the nearest quarter turn is subtracted exactly (Sterbenz) and Taylor polynomials of
+// degree 8 / 9 on [-pi/4, pi/4] give |error| < 3e-8, below float resolution of the unit vector.
+inline void cosSinTurns(float t, float& c, float& s) {
+  const int quarter = static_cast<int>(4.0f * t + 0.5f);  // t >= 0: rounds to nearest
+  const float a = 6.28318531f * (t - 0.25f * float(quarter)), a2 = a * a;
+  const float sin_a = a * (1.0f + a2 * (-1.0f / 6 + a2 * (1.0f / 120 + a2 * (-1.0f / 5040 + a2 * (1.0f / 362880)))));
+  const float cos_a = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 + a2 * (1.0f / 40320))));
+  switch (quarter & 3) {
+    case 0: c = cos_a, s = sin_a; break;
+    case 1: c = -sin_a, s = cos_a; break;
+    case 2: c = -cos_a, s = -sin_a; break;
+    default: c = sin_a, s = -cos_a; break;
+  }
+}
+
+// atan2(y, x) / (2 pi) in (-1/2, 1/2], without the library call: atan of the ratio min/max in
+// [0, 1] as a * P(a^2), P interpolating atan(sqrt(z)) / (2 pi sqrt(z)) at the 9 Chebyshev nodes of
+// z in [0, 1] (|error| < 1e-8 turns, about one float ulp of the result; evaluated by Estrin's
+// scheme, half the dependent multiply-adds of Horner's), then the octant's symmetries. It serves
+// pdf's cell lookup, and sample() returns that same pdf, so the two still agree exactly; the
+// approximation moves cell boundaries by ~1 ulp, as float rounding does.
+inline float atan2Turns(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+  if (!(hi > 0.0f)) return 0.0f;  // atan2(+-0, +-0): phi = 0, as at the pole; NaN y too (NaN x gives NaN)
+  const float a = lo / hi, z = a * a, z2 = z * z, z4 = z2 * z2;
+  const float p01 = 0.159154937f - 0.0530511774f * z, p23 = 0.0318180509f - 0.0225964971f * z;
+  const float p45 = 0.0168996621f - 0.0118679535f * z, p67 = 0.00670641102f - 0.00250370614f * z;
+  const float p = (p01 + p23 * z2) + z4 * ((p45 + p67 * z2) + 0.0004402677f * z4);
+  float r = a * p;
+  if (ay > ax) r = 0.25f - r;
+  if (x < 0.0f) r = 0.5f - r;
+  return y < 0.0f ? -r : r;
+}
+
+}  // namespace detail
+
+class BinnedSampler : public Material {
+ public:
+  // Throws btf::Error for a null material or invalid options (the message names the option).
+  BinnedSampler(std::shared_ptr<const Material> material, const SamplerOptions& options);
+
+  Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
+  // final: callers holding a BinnedSampler& get a direct call.
+  float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const final;
+  std::string name() const override;
+  bool isAnisotropic() const override { return anisotropic_; }
+
+  // As sample(), also reporting how many proposals were drawn (1 except for rejection samplers).
+  std::optional<BsdfSample> sampleCountingTries(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u, int& tries) const;
+  // The direction and its pdf without evaluating the material for the weight (the sampler's own
+  // cost, for benchmarks and for callers that evaluate f themselves). pdf == pdf(wi, wo).
+  struct DirectionSample {
+    glm::vec3 wi;
+    float pdf;
+  };
+  std::optional<DirectionSample> sampleDirection(const glm::vec3& wo, glm::vec2 u, int& tries) const;
+
+  virtual SamplerKind kind() const = 0;
+  virtual SamplerStats stats() const = 0;
+  const SamplerOptions& options() const { return options_; }
+  const Material& material() const { return *material_; }
+  std::size_t binCount() const { return std::size_t(theta_o_bins_) * phi_o_bins_; }
+  // The bin a wo falls in (wo.z > 0), and the central wo the bin was tabulated for (bin frame).
+  std::size_t binOf(const glm::vec3& wo) const;
+  glm::vec3 binDirection(std::size_t bin) const;
+
+ protected:
+  // The bin of a wo and the rotation from the bin frame to the local frame (identity when
+  // anisotropic: the bins then cover phi_o themselves).
+  struct BinQuery {
+    std::size_t bin;
+    float cos_phi, sin_phi;
+    glm::vec3 toBinFrame(const glm::vec3& w) const {
+      return {cos_phi * w.x + sin_phi * w.y, -sin_phi * w.x + cos_phi * w.y, w.z};
+    }
+    glm::vec3 fromBinFrame(const glm::vec3& w) const {
+      return {cos_phi * w.x - sin_phi * w.y, sin_phi * w.x + cos_phi * w.y, w.z};
+    }
+  };
+  BinQuery query(const glm::vec3& wo) const;
+  // sampleDirection and pdf for wo.z > 0, after the bin lookup. The defaults go through
+  // sampleInBin / pdfInBin; overrides must keep sampleQuery's pdf == pdfQuery(q, its wi).
+  virtual std::optional<DirectionSample> sampleQuery(const BinQuery& q, glm::vec2 u, int& tries) const;
+  virtual float pdfQuery(const BinQuery& q, const glm::vec3& wi) const;
+
+  // A point (s, t) of the square for the bin, or nothing for an empty bin.
+  virtual std::optional<glm::vec2> sampleInBin(std::size_t bin, glm::vec2 u, int& tries) const = 0;
+  // Density over the square at (s, t) in [0,1)^2 for the bin.
+  virtual float pdfInBin(std::size_t bin, glm::vec2 st) const = 0;
+
+  // Luminance of f * cos(theta_i) at (s, t) for the bin's central wo (invalid values -> 0, counted).
+  float target(std::size_t bin, glm::vec2 st) const;
+  // For every bin, the cell means of the target on an nu x nv grid (supersampled, plus the
+  // defensive share), bin-major then row (s) then column (t). Parallel over bins.
+  std::vector<float> tabulateGrid(int nu, int nv) const;
+  // Counters of target() calls since construction; derived classes copy them into stats().
+  void fillCommonStats(SamplerStats& stats) const;
+  // Logs a warning if any evaluation was invalid; derived constructors call it last.
+  void reportInvalidEvaluations() const;
+
+  // Inline (and free of library trigonometry, see detail::) because they are on every query.
+  static glm::vec3 squareToDirection(glm::vec2 st) {
+    const float z = st.x, r = std::sqrt(std::max(1.0f - z * z, 0.0f));
+    float c, s;
+    detail::cosSinTurns(st.y, c, s);
+    return {r * c, r * s, z};
+  }
+  static glm::vec2 directionToSquare(const glm::vec3& w) {
+    const float t = detail::atan2Turns(w.y, w.x);
+    // Wrap into [0,1); t + 1 can round to exactly 1 for tiny negative t.
+    return {w.z, t < 0.0f ? std::min(t + 1.0f, 0x1.fffffep-1f) : t};
+  }
+
+ private:
+
+  std::shared_ptr<const Material> material_;
+  SamplerOptions options_;
+  bool anisotropic_;
+  int theta_o_bins_, phi_o_bins_;
+  std::vector<float> cos_theta_o_edges_;  // cos of the inner theta_o bin edges, decreasing
+  // Guide table over wo.z (cutpoint method, Chen & Asau 1974): entry g is the number of edges
+  // >= (g + 1) / size, a lower bound of binOf's theta bin for every z in [g / size, (g + 1) / size),
+  // so the lookup scans forward over the few edges left instead of bisecting all of them.
+  std::vector<std::uint16_t> theta_guide_;
+  mutable std::uint64_t evaluations_ = 0, invalid_evaluations_ = 0;  // build-time only (atomically)
+};
+
+// Builds the sampler of the given kind (throws btf::Error as the constructors do).
+std::unique_ptr<BinnedSampler> makeSampler(SamplerKind kind, std::shared_ptr<const Material> material,
+                                           const SamplerOptions& options = {});
+
+}  // namespace btf

@@ -1,0 +1,225 @@
+#include "btf/sampling/binned_sampler.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+#include "btf/core/progress.h"
+#include "btf/sampling/dp_cdf_sampler.h"
+#include "btf/sampling/quadtree_sampler.h"
+#include "btf/sampling/tabulated_sampler.h"
+
+namespace btf {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw Error("sampler options: " + what);
+}
+
+void validate(const SamplerOptions& o) {
+  require(o.theta_o_bins >= 1 && o.theta_o_bins <= 4096, "theta_o_bins must be in [1, 4096]");
+  require(o.phi_o_bins >= 1 && o.phi_o_bins <= 4096, "phi_o_bins must be in [1, 4096]");
+  require(o.cos_theta_bins >= 1 && o.cos_theta_bins <= 65536, "cos_theta_bins must be in [1, 65536]");
+  require(o.phi_bins >= 1 && o.phi_bins <= 65536, "phi_bins must be in [1, 65536]");
+  require(o.supersampling >= 1 && o.supersampling <= 64, "supersampling must be in [1, 64]");
+  require(o.defensive_fraction >= 0.0f && std::isfinite(o.defensive_fraction), "defensive_fraction must be finite and >= 0");
+  require(o.epsilon >= 0.0f && !std::isnan(o.epsilon), "epsilon must be >= 0");
+  require(o.threshold >= 1.0f && std::isfinite(o.threshold), "threshold must be finite and >= 1");
+  require(o.min_depth >= 0 && o.min_depth <= o.max_depth && o.max_depth <= 16,
+          "depths must satisfy 0 <= min_depth <= max_depth <= 16");
+  require(o.quadtree_probes >= 1 && o.quadtree_probes <= 64, "quadtree_probes must be in [1, 64]");
+  require(o.max_tries >= 1 && o.max_tries <= 1 << 20, "max_tries must be in [1, 2^20]");
+}
+
+float thetaOCentre(int i, int n) { return (float(i) + 0.5f) / float(n) * kHalfPi; }
+
+}  // namespace
+
+std::string_view toString(SamplerKind kind) {
+  switch (kind) {
+    case SamplerKind::Tabulated: return "tabulated";
+    case SamplerKind::DpCdf: return "dp-cdf";
+    case SamplerKind::Quadtree: return "quadtree";
+  }
+  return "unknown";
+}
+
+std::optional<SamplerKind> parseSamplerKind(std::string_view name) {
+  for (SamplerKind k : {SamplerKind::Tabulated, SamplerKind::DpCdf, SamplerKind::Quadtree})
+    if (toString(k) == name) return k;
+  return std::nullopt;
+}
+
+BinnedSampler::BinnedSampler(std::shared_ptr<const Material> material, const SamplerOptions& options)
+    : material_(std::move(material)), options_(options) {
+  if (!material_) throw Error("sampler: no material given");
+  validate(options_);
+  anisotropic_ = material_->isAnisotropic();
+  theta_o_bins_ = options_.theta_o_bins;
+  phi_o_bins_ = anisotropic_ ? options_.phi_o_bins : 1;
+  for (int i = 1; i < theta_o_bins_; ++i)
+    cos_theta_o_edges_.push_back(std::cos(float(i) / float(theta_o_bins_) * kHalfPi));
+  // The narrowest bins in z are next to the normal (width ~ (pi / 2n)^2 / 2), so about n^2 / 2
+  // cells leave ~1 edge per cell there; a power of two makes z * size exact in float. Capped at
+  // 64 Ki cells (128 KiB): finer theta_o grids only scan a little further.
+  const std::size_t cells = std::clamp<std::size_t>(
+      std::bit_ceil(std::size_t(theta_o_bins_) * std::size_t(theta_o_bins_) / 2), 64, std::size_t(1) << 16);
+  theta_guide_.resize(cells + 1);
+  for (std::size_t g = 0; g <= cells; ++g) {
+    const float upper = float(g + 1) / float(cells);  // exact: cells is a power of two
+    theta_guide_[g] = static_cast<std::uint16_t>(
+        std::count_if(cos_theta_o_edges_.begin(), cos_theta_o_edges_.end(), [&](float e) { return e >= upper; }));
+  }
+}
+
+std::size_t BinnedSampler::binOf(const glm::vec3& wo) const {
+  // Nearest bin in theta_o = the bin whose edges enclose it; cos decreases with theta, so the bin
+  // is the number of inner edges e >= wo.z (no acos needed). The guide gives a lower bound (all
+  // edges before it are >= the top of wo.z's guide cell); the scan counts the rest exactly as a
+  // bisection would. NaN or z outside [0, 1] only costs a longer scan or the first cell.
+  const float scaled = wo.z * float(theta_guide_.size() - 1);
+  const std::size_t g = scaled > 0.0f ? std::min(static_cast<std::size_t>(scaled), theta_guide_.size() - 1) : 0;
+  std::size_t theta_bin = theta_guide_[g];
+  while (theta_bin < cos_theta_o_edges_.size() && cos_theta_o_edges_[theta_bin] >= wo.z) ++theta_bin;
+  if (!anisotropic_) return theta_bin;
+  const float t = sphericalPhi(wo) * kInv2Pi * float(phi_o_bins_);
+  const std::size_t phi_bin = std::min(static_cast<std::size_t>(t), std::size_t(phi_o_bins_ - 1));
+  return theta_bin * phi_o_bins_ + phi_bin;
+}
+
+glm::vec3 BinnedSampler::binDirection(std::size_t bin) const {
+  const int theta_bin = int(bin / phi_o_bins_), phi_bin = int(bin % phi_o_bins_);
+  const float phi = anisotropic_ ? (float(phi_bin) + 0.5f) / float(phi_o_bins_) * kTwoPi : 0.0f;
+  return sphericalDirection(thetaOCentre(theta_bin, theta_o_bins_), phi);
+}
+
+BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
+  BinQuery q{binOf(wo), 1.0f, 0.0f};
+  if (!anisotropic_) {
+    // wo is a unit vector, so x^2 + y^2 cannot overflow: no need for hypot's care (and cost).
+    // Below ~1e-19 the square underflows to 0 and the identity is used, as at the pole itself.
+    const float r2 = wo.x * wo.x + wo.y * wo.y;
+    if (r2 > 0.0f) {
+      const float inv = 1.0f / std::sqrt(r2);
+      q.cos_phi = wo.x * inv, q.sin_phi = wo.y * inv;
+    }
+  }
+  return q;
+}
+
+float BinnedSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
+  if (!(wi.z > 0.0f)) return 0.0f;
+  const glm::vec2 st = directionToSquare(q.toBinFrame(wi));
+  if (!(st.x < 1.0f)) return 0.0f;  // wi.z == 1 exactly is outside [0,1): a null set
+  return pdfInBin(q.bin, st) * kInv2Pi;
+}
+
+std::optional<BinnedSampler::DirectionSample> BinnedSampler::sampleQuery(const BinQuery& q, glm::vec2 u,
+                                                                         int& tries) const {
+  const std::optional<glm::vec2> st = sampleInBin(q.bin, u, tries);
+  if (!st) return std::nullopt;
+  const glm::vec3 wi = glm::normalize(q.fromBinFrame(squareToDirection(*st)));
+  const float p = pdfQuery(q, wi);
+  if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
+  return DirectionSample{wi, p};
+}
+
+Rgb BinnedSampler::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) const {
+  return material_->eval(wi, wo, uv);
+}
+
+float BinnedSampler::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (!(wo.z > 0.0f)) return 0.0f;
+  return pdfQuery(query(wo), wi);
+}
+
+std::optional<BsdfSample> BinnedSampler::sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const {
+  int tries = 0;
+  return sampleCountingTries(wo, uv, u, tries);
+}
+
+std::optional<BinnedSampler::DirectionSample> BinnedSampler::sampleDirection(const glm::vec3& wo, glm::vec2 u,
+                                                                             int& tries) const {
+  tries = 0;
+  if (!(wo.z > 0.0f)) return std::nullopt;
+  return sampleQuery(query(wo), u, tries);
+}
+
+std::optional<BsdfSample> BinnedSampler::sampleCountingTries(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u,
+                                                             int& tries) const {
+  const std::optional<DirectionSample> d = sampleDirection(wo, u, tries);
+  if (!d) return std::nullopt;
+  return BsdfSample{d->wi, material_->eval(d->wi, wo, uv) * (d->wi.z / d->pdf), d->pdf};
+}
+
+std::string BinnedSampler::name() const { return std::string(toString(kind())) + "(" + material_->name() + ")"; }
+
+float BinnedSampler::target(std::size_t bin, glm::vec2 st) const {
+  const glm::vec3 wi = squareToDirection(st);
+  const float v = material_->eval(wi, binDirection(bin)).luminance() * wi.z;
+  std::atomic_ref<std::uint64_t>(evaluations_).fetch_add(1, std::memory_order_relaxed);
+  if (std::isfinite(v) && v >= 0.0f) return v;
+  std::atomic_ref<std::uint64_t>(invalid_evaluations_).fetch_add(1, std::memory_order_relaxed);
+  return 0.0f;
+}
+
+std::vector<float> BinnedSampler::tabulateGrid(int nu, int nv) const {
+  const std::size_t cells = std::size_t(nu) * nv;
+  std::vector<float> grid(binCount() * cells);
+  const int ss = options_.supersampling;
+  Progress progress("tabulating " + material_->name(), binCount());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, binCount()), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t bin = r.begin(); bin < r.end(); ++bin) {
+      float* values = grid.data() + bin * cells;
+      double total = 0.0;
+      for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+          double sum = 0.0;
+          for (int a = 0; a < ss; ++a)
+            for (int b = 0; b < ss; ++b)
+              sum += target(bin, {(float(i) + (float(a) + 0.5f) / float(ss)) / float(nu),
+                                  (float(j) + (float(b) + 0.5f) / float(ss)) / float(nv)});
+          values[std::size_t(i) * nv + j] = float(sum / double(ss * ss));
+          total += sum / double(ss * ss);
+        }
+      const float floor = float(options_.defensive_fraction * total / double(cells));
+      for (std::size_t c = 0; c < cells; ++c) values[c] += floor;
+      progress.advance();
+    }
+  });
+  return grid;
+}
+
+void BinnedSampler::fillCommonStats(SamplerStats& stats) const {
+  stats.kind = std::string(toString(kind()));
+  stats.bins = binCount();
+  stats.full_cdf_bytes = binCount() * (std::size_t(options_.cos_theta_bins + 1) +
+                                       std::size_t(options_.cos_theta_bins) * (options_.phi_bins + 1)) * sizeof(float);
+  stats.evaluations = evaluations_;
+  stats.invalid_evaluations = invalid_evaluations_;
+}
+
+void BinnedSampler::reportInvalidEvaluations() const {
+  if (invalid_evaluations_ == 0) return;
+  log(LogLevel::Warning, name() + ": " + std::to_string(invalid_evaluations_) + " of " + std::to_string(evaluations_) +
+                             " evaluations were NaN, infinite or negative and were counted as 0");
+}
+
+std::unique_ptr<BinnedSampler> makeSampler(SamplerKind kind, std::shared_ptr<const Material> material,
+                                           const SamplerOptions& options) {
+  switch (kind) {
+    case SamplerKind::Tabulated: return std::make_unique<TabulatedSampler>(std::move(material), options);
+    case SamplerKind::DpCdf: return std::make_unique<DpCdfSampler>(std::move(material), options);
+    case SamplerKind::Quadtree: return std::make_unique<QuadtreeSampler>(std::move(material), options);
+  }
+  throw Error("makeSampler: unknown sampler kind");
+}
+
+}  // namespace btf

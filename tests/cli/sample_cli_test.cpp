@@ -1,0 +1,128 @@
+// btf sample (chi-square picture of one sampler at one wo) and btf bench sampling --quick.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "btf/io/image.h"
+#include "cli_test_support.h"
+
+namespace btf::test {
+namespace {
+
+// One small table shared by the tests of this file (datagen takes a moment).
+const std::filesystem::path& plasticTable() {
+  static TempDir dir;
+  static const std::filesystem::path table = [] {
+    const auto path = dir / "plastic-red.binary";
+    const CommandResult r = runDatagen({"--preset", "plastic-red", "--clean", "-o", path.string()});
+    if (r.exit_code != 0) throw std::runtime_error(r.output);
+    return path;
+  }();
+  return table;
+}
+
+TEST(Sample, CorrectSamplerPassesTheChiSquareTestAndWritesThePicture) {
+  TempDir dir;
+  const auto png = dir / "dp.png";
+  // A correct sampler passes at alpha = 0.01 with N = 50000 draws; seed fixed, so the result is
+  // reproducible (p-values of a correct sampler are uniform, so 1 seed in 100 would fail).
+  const CommandResult r = runBtf({"sample", plasticTable().string(), "--theta-o", "40", "--sampler", "dp-cdf",
+                                  "-n", "50000", "--seed", "3", "-o", png.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = parseJsonOutput(r);
+  EXPECT_GE(j["chi2_p"].get<double>(), 0.01) << r.output;
+  EXPECT_TRUE(j["accepted"].get<bool>());
+  EXPECT_EQ(j["alpha"].get<double>(), 0.01);
+  EXPECT_GT(j["chi2_dof"].get<int>(), 10);
+  EXPECT_GT(j["samples_per_s"].get<double>(), 0.0);
+  const Image image = readImage(png);
+  EXPECT_GT(image.width, 2 * image.height) << "three panels side by side";
+  EXPECT_EQ(filesIn(dir.path()).size(), 1u) << "the PNG only, no temporary files";
+}
+
+TEST(Sample, TextOutputNamesStatisticDofAndPValue) {
+  TempDir dir;
+  const CommandResult r = runBtf({"sample", plasticTable().string(), "--theta-o", "10", "--sampler", "cosine", "-n",
+                                  "20000", "-o", (dir / "c.png").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("chi2 statistic"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("dof"), std::string::npos);
+  EXPECT_NE(r.output.find("p-value"), std::string::npos);
+  EXPECT_NE(r.output.find("samples/s"), std::string::npos);
+}
+
+TEST(Sample, RejectsBadSamplerMissingFileAndThetaOutOfRange) {
+  TempDir dir;
+  const auto png = (dir / "x.png").string();
+  const std::string table = plasticTable().string();
+  const CommandResult bad_sampler = runBtf({"sample", table, "--theta-o", "30", "--sampler", "magic", "-o", png});
+  EXPECT_NE(bad_sampler.exit_code, 0);
+  EXPECT_NE(bad_sampler.output.find("magic"), std::string::npos) << bad_sampler.output;
+  EXPECT_NE(bad_sampler.output.find("dp-cdf"), std::string::npos) << "lists the known samplers";
+
+  const CommandResult missing = runBtf({"sample", (dir / "none.binary").string(), "--theta-o", "30", "-o", png});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.output.find("none.binary"), std::string::npos) << missing.output;
+
+  for (const char* theta : {"90", "-5", "120"}) {
+    const CommandResult r = runBtf({"sample", table, "--theta-o", theta, "-o", png});
+    EXPECT_NE(r.exit_code, 0) << theta;
+    EXPECT_NE(r.output.find("theta-o"), std::string::npos) << r.output;
+  }
+  EXPECT_TRUE(filesIn(dir.path()).empty()) << "no output on errors";
+}
+
+std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream s(line);
+    std::string f;
+    while (std::getline(s, f, ',')) fields.push_back(f);
+    if (!line.empty() && line.back() == ',') fields.emplace_back();
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
+  TempDir dir;
+  const auto out = dir / "bench";
+  const CommandResult r = runBtf({"bench", "sampling", "--quick", "-o", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto rows = readCsv(out / "sampling.csv");
+  ASSERT_GE(rows.size(), 2u);
+  const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes", "samples_per_s",
+                                            "chi2_statistic", "chi2_p", "variance", "seconds", "efficiency",
+                                            "rel_error_vs_reference"};
+  EXPECT_EQ(rows[0], columns);
+  std::map<std::string, int> per_sampler;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), columns.size()) << i;
+    ++per_sampler[rows[i][1]];
+    EXPECT_GT(std::stod(rows[i][4]), 0.0) << "samples_per_s of " << rows[i][1];
+    EXPECT_GT(std::stod(rows[i][9]), 0.0) << "efficiency of " << rows[i][1];
+  }
+  for (const char* sampler : {"uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree"})
+    EXPECT_GE(per_sampler[sampler], 1) << sampler;
+  EXPECT_GE(per_sampler["dp-cdf"], 2) << "a sweep of epsilon";
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    for (const char* chart : {"sampling_memory_vs_error", "sampling_speed_vs_error", "sampling_efficiency"})
+      for (const char* ext : {".png", ".svg"}) EXPECT_TRUE(std::filesystem::exists(out / (std::string(chart) + ext))) << chart << ext;
+  }
+  for (const auto& f : filesIn(out)) EXPECT_EQ(f.string().find(".part"), std::string::npos) << f;
+}
+
+TEST(BenchSampling, UnknownMaterialIsAnError) {
+  TempDir dir;
+  const CommandResult r = runBtf({"bench", "sampling", "--quick", "--materials", "no-such-thing", "-o",
+                                  (dir / "b").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no-such-thing"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace btf::test

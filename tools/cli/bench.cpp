@@ -1,0 +1,168 @@
+// `btf bench sampling [--materials LIST] [--quick] -o DIR`: every sampler on every material, with
+// the measures of sampling_measures.h, written to DIR/sampling.csv and charted by gnuplot.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_materials.h"
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+#include "btf/core/progress.h"
+#include "btf/sampling/chi2.h"
+#include "commands.h"
+#include "sampler_choice.h"
+#include "sampling_charts.h"
+#include "sampling_measures.h"
+#include "sampling_table.h"
+
+namespace btf::cli {
+namespace {
+
+struct BenchOptions {
+  std::string materials;  // comma-separated; empty: the default list
+  std::string output;
+  bool quick = false;
+  float theta_o = 30.0f;
+  std::uint64_t seed = 1;
+};
+
+// Work per row. The default keeps the whole run near two minutes on two cores; --quick is for tests.
+struct BenchSizes {
+  SamplerOptions tables;
+  std::vector<float> epsilons, thresholds;
+  std::uint64_t speed_draws, estimate_draws, reference_draws, chi2_draws;
+};
+
+BenchSizes sizesFor(bool quick) {
+  BenchSizes s;
+  if (quick) {
+    s.tables.theta_o_bins = 4;
+    s.tables.cos_theta_bins = 16;
+    s.tables.phi_bins = 32;
+    s.tables.supersampling = 1;
+    s.tables.max_depth = 6;
+    s.epsilons = {1e-3f, 1e-2f};
+    s.thresholds = {4.0f};
+    s.speed_draws = 20'000, s.estimate_draws = 5'000, s.reference_draws = 50'000, s.chi2_draws = 20'000;
+  } else {
+    // A quarter of the library's default outgoing bins: one wo is measured, and building the tables
+    // for every bin would dominate the run.
+    s.tables.theta_o_bins = 8;
+    s.epsilons = {1e-4f, 1e-3f, 1e-2f};
+    s.thresholds = {2.0f, 8.0f};
+    s.speed_draws = 200'000, s.estimate_draws = 50'000, s.reference_draws = 400'000, s.chi2_draws = 100'000;
+  }
+  return s;
+}
+
+struct Setting {
+  SamplerChoice choice;
+  std::optional<double> parameter;
+};
+
+std::vector<Setting> settingsFor(const BenchSizes& sizes) {
+  std::vector<Setting> settings = {{SamplerChoice::Uniform, {}}, {SamplerChoice::Cosine, {}},
+                                   {SamplerChoice::Own, {}}, {SamplerChoice::Tabulated, {}}};
+  for (float e : sizes.epsilons) settings.push_back({SamplerChoice::DpCdf, e});
+  for (float t : sizes.thresholds) settings.push_back({SamplerChoice::Quadtree, t});
+  return settings;
+}
+
+std::vector<std::string> splitList(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+SamplingRow measure(const BenchMaterial& m, const Setting& setting, const BenchSizes& sizes, const glm::vec3& wo,
+                    double reference, std::uint64_t seed) {
+  SamplerOptions options = sizes.tables;
+  if (setting.choice == SamplerChoice::DpCdf) options.epsilon = float(*setting.parameter);
+  if (setting.choice == SamplerChoice::Quadtree) options.threshold = float(*setting.parameter);
+  const std::shared_ptr<const Material> sampled = withSampler(setting.choice, m.material, options);
+
+  SamplingRow row;
+  row.material = m.name;
+  row.sampler = std::string(toString(setting.choice));
+  row.parameter = setting.parameter;
+  if (const auto* binned = dynamic_cast<const BinnedSampler*>(sampled.get())) row.bytes = double(binned->stats().bytes);
+  else if (setting.choice != SamplerChoice::Own) row.bytes = 0.0;  // a warp has no tables
+  row.samples_per_s = samplesPerSecond(*sampled, wo, sizes.speed_draws, seed);
+  Chi2Options chi2;
+  chi2.sample_count = sizes.chi2_draws;
+  chi2.seed = seed;
+  const Chi2Result test = chi2TestMaterial(*sampled, wo, {}, chi2);
+  row.chi2_statistic = test.statistic;
+  row.chi2_p = test.p_value;
+  const Estimate e = estimateReflectedRadiance(*sampled, wo, sizes.estimate_draws, seed);
+  row.variance = e.variance;
+  row.seconds = e.seconds;
+  row.efficiency = e.efficiency();
+  row.rel_error_vs_reference = reference > 0 ? std::abs(e.mean - reference) / reference : std::abs(e.mean);
+  return row;
+}
+
+void runBenchSampling(const BenchOptions& o) {
+  const std::vector<std::string> names = o.materials.empty() ? defaultBenchMaterialNames(o.quick) : splitList(o.materials);
+  if (names.empty()) throw Error("--materials lists no material");
+  if (!(o.theta_o >= 0.0f && o.theta_o < 90.0f)) throw Error("--theta-o must be in [0, 90) degrees");
+  const std::filesystem::path folder = o.output;
+  std::filesystem::create_directories(folder);
+
+  const BenchSizes sizes = sizesFor(o.quick);
+  const std::vector<Setting> settings = settingsFor(sizes);
+  const glm::vec3 wo = sphericalDirection(o.theta_o * kPi / 180.0f, 0.0f);
+  std::vector<SamplingRow> rows;
+  Progress progress("bench sampling", names.size() * (settings.size() + 1));
+  for (const std::string& name : names) {
+    const BenchMaterial m = loadBenchMaterial(name);
+    // The reference: the tabulated sampler with many more draws on its own random stream.
+    const auto reference_sampler = withSampler(SamplerChoice::Tabulated, m.material, sizes.tables);
+    const Estimate reference = estimateReflectedRadiance(*reference_sampler, wo, sizes.reference_draws, o.seed + 1000);
+    progress.advance();
+    std::printf("%s: reference radiance %.5g (rel. std. error %.2g, %llu draws)\n", name.c_str(), reference.mean,
+                std::sqrt(reference.variance) / std::max(reference.mean, 1e-30),
+                static_cast<unsigned long long>(sizes.reference_draws));
+    for (const Setting& setting : settings) {
+      rows.push_back(measure(m, setting, sizes, wo, reference.mean, o.seed));
+      const SamplingRow& r = rows.back();
+      std::printf("  %-10s %-8s %10.3g samples/s  efficiency %10.4g  chi2 p %.3g\n", r.sampler.c_str(),
+                  r.parameter ? std::to_string(*r.parameter).substr(0, 6).c_str() : "", r.samples_per_s, r.efficiency,
+                  r.chi2_p);
+      std::fflush(stdout);
+      progress.advance();
+    }
+  }
+  const std::filesystem::path csv = folder / "sampling.csv";
+  writeSamplingCsv(csv, rows);
+  std::printf("wrote %s (%zu rows)\n", csv.string().c_str(), rows.size());
+  const ChartOutcome charts = drawSamplingCharts(folder, rows);
+  if (!charts.message.empty()) std::fprintf(stderr, "btf: warning: %s\n", charts.message.c_str());
+  for (const auto& file : charts.files) std::printf("wrote %s\n", file.string().c_str());
+}
+
+}  // namespace
+
+void registerBenchCommand(CLI::App& app) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks");
+  bench->require_subcommand(1);
+  auto* cmd = bench->add_subcommand(
+      "sampling", "Every sampler on every material: samples/s, bytes, chi-square, and efficiency = "
+                  "1/(variance*seconds) of an environment-lit radiance estimate; CSV and gnuplot charts");
+  auto o = std::make_shared<BenchOptions>();
+  cmd->add_option("--materials", o->materials,
+                  "Comma-separated: datagen presets, MERL fits NAME[:sgd|abc|lafortune], RGL file stems");
+  cmd->add_flag("--quick", o->quick, "Tiny tables and few draws (seconds; for tests)");
+  cmd->add_option("--theta-o", o->theta_o, "Outgoing zenith angle of the measurement (deg)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "Output folder (sampling.csv and the charts)")->required();
+  cmd->callback([o] { runBenchSampling(*o); });
+}
+
+}  // namespace btf::cli

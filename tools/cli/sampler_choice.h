@@ -1,0 +1,35 @@
+// The samplers `btf sample` and `btf bench sampling` compare, by name: two warps that ignore the
+// material (uniform and cosine hemisphere), the material's own sample() (for an RGL file the
+// Dupuy-Jakob warp of its tensor: the peer baseline), and the three tabulated samplers of libbtf.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "btf/sampling/binned_sampler.h"
+
+namespace btf::cli {
+
+enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree };
+
+// "uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree".
+std::string_view toString(SamplerChoice choice);
+std::optional<SamplerChoice> parseSamplerChoice(std::string_view name);
+// The names above, comma-separated, for help and error messages.
+std::string samplerChoiceNames();
+
+// The material with the chosen sampler: eval is always the material's, sample/pdf the sampler's.
+// Throws btf::Error as makeSampler does for invalid options.
+std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_ptr<const Material> material,
+                                            const SamplerOptions& options);
+
+// One draw of a direction with its pdf and nothing else where the sampler allows it (warps and the
+// tabulated samplers); a material's own sampler can only be called through sample(), which also
+// evaluates the weight. What "samples_per_s" times. Nothing when the draw returns no direction.
+std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3& wo, glm::vec2 u, float& pdf);
+
+}  // namespace btf::cli

@@ -1,0 +1,216 @@
+#include "sampling_charts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "btf/io/atomic_file.h"
+
+namespace btf::cli {
+namespace {
+
+// Log axes cannot show 0: an estimate that hit the reference exactly is drawn at this floor.
+constexpr double kErrorFloor = 1e-5;
+
+std::filesystem::path findOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  std::stringstream dirs(path);
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const std::filesystem::path candidate = std::filesystem::path(dir.empty() ? "." : dir) / program;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+  }
+  return {};
+}
+
+// Single-quoted for the shell.
+std::string shellQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// Double-quoted for gnuplot (backslashes and double quotes escaped).
+std::string gpQuote(const std::string& text) {
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+std::string seriesName(const SamplingRow& r) { return r.sampler; }
+
+// One inline data block per sampler, in order of first appearance: "x y" lines.
+template <typename Point>
+std::string dataBlocks(const std::vector<SamplingRow>& rows, const std::string& prefix, Point point,
+                       std::vector<std::string>& series) {
+  std::map<std::string, std::ostringstream> blocks;
+  for (const SamplingRow& r : rows) {
+    double x = 0, y = 0;
+    if (!point(r, x, y)) continue;
+    const std::string name = seriesName(r);
+    if (!blocks.count(name)) series.push_back(name);
+    blocks[name] << x << ' ' << y << '\n';
+  }
+  std::ostringstream out;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    out << '$' << prefix << i << " << EOD\n" << blocks[series[i]].str() << "EOD\n";
+  return out.str();
+}
+
+std::string plotSeries(const std::string& prefix, const std::vector<std::string>& series) {
+  std::ostringstream out;
+  out << "plot ";
+  for (std::size_t i = 0; i < series.size(); ++i)
+    out << (i ? ", " : "") << '$' << prefix << i << " using 1:2 with points pt 7 ps 1.3 title " << gpQuote(series[i]);
+  return out.str() + "\n";
+}
+
+// The samplers of the bar chart: the warps, the material's own, and the middle of each sweep.
+std::vector<std::pair<std::string, std::optional<double>>> barSamplers(const std::vector<SamplingRow>& rows) {
+  std::vector<std::pair<std::string, std::optional<double>>> chosen;
+  std::map<std::string, std::vector<double>> sweeps;
+  for (const SamplingRow& r : rows) {
+    if (r.parameter) {
+      auto& v = sweeps[r.sampler];
+      if (std::find(v.begin(), v.end(), *r.parameter) == v.end()) v.push_back(*r.parameter);
+    } else if (std::find(chosen.begin(), chosen.end(), std::make_pair(r.sampler, std::optional<double>())) == chosen.end()) {
+      chosen.emplace_back(r.sampler, std::nullopt);
+    }
+  }
+  for (auto& [sampler, values] : sweeps) {
+    std::sort(values.begin(), values.end());
+    chosen.emplace_back(sampler, values[values.size() / 2]);
+  }
+  return chosen;
+}
+
+std::string efficiencyBlock(const std::vector<SamplingRow>& rows, std::vector<std::string>& titles) {
+  const auto samplers = barSamplers(rows);
+  std::vector<std::string> materials;
+  for (const SamplingRow& r : rows)
+    if (std::find(materials.begin(), materials.end(), r.material) == materials.end()) materials.push_back(r.material);
+  std::ostringstream out;
+  out << "$eff << EOD\n";
+  for (const std::string& m : materials) {
+    out << gpQuote(m);
+    for (const auto& [sampler, parameter] : samplers) {
+      const auto it = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& r) {
+        return r.material == m && r.sampler == sampler && r.parameter == parameter;
+      });
+      if (it != rows.end() && it->efficiency > 0 && std::isfinite(it->efficiency)) out << ' ' << it->efficiency;
+      else out << " ?";
+    }
+    out << '\n';
+  }
+  out << "EOD\n";
+  for (const auto& [sampler, parameter] : samplers) {
+    std::ostringstream t;
+    t << sampler;
+    if (parameter) t << (sampler == "dp-cdf" ? " eps " : " thr ") << *parameter;
+    titles.push_back(t.str());
+  }
+  return out.str();
+}
+
+}  // namespace
+
+ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::vector<SamplingRow>& rows) {
+  ChartOutcome outcome;
+  const std::filesystem::path gnuplot = findOnPath("gnuplot");
+  if (gnuplot.empty()) {
+    outcome.message = "gnuplot not found on PATH (Debian: apt install gnuplot-nox): charts skipped, CSV written";
+    return outcome;
+  }
+  const bool cairo = std::system((shellQuote(gnuplot.string()) + " -e 'set terminal pngcairo' >/dev/null 2>&1").c_str()) == 0;
+
+  std::ostringstream script;
+  script << "# Generated by `btf bench sampling`; run with: gnuplot sampling_charts.gp\n"
+         << "set datafile missing '?'\nset grid\nset key outside right top\n";
+  std::vector<std::string> mem_series, speed_series, bar_titles;
+  script << dataBlocks(rows, "mem", [](const SamplingRow& r, double& x, double& y) {
+    if (!r.bytes || *r.bytes <= 0) return false;
+    x = *r.bytes, y = std::max(r.rel_error_vs_reference, kErrorFloor);
+    return true;
+  }, mem_series);
+  script << dataBlocks(rows, "speed", [](const SamplingRow& r, double& x, double& y) {
+    x = std::max(r.rel_error_vs_reference, kErrorFloor), y = r.samples_per_s;
+    return y > 0;
+  }, speed_series);
+  script << efficiencyBlock(rows, bar_titles);
+
+  // Each chart: a PNG and an SVG, both to temporary names renamed once gnuplot has succeeded.
+  struct Chart {
+    std::string stem, body;
+  };
+  const std::vector<Chart> charts = {
+      {"sampling_memory_vs_error",
+       "set title 'Memory of the sampling tables vs error of the fixed estimate (all materials)'\n"
+       "set logscale xy\nset xlabel 'bytes'\nset ylabel 'rel. error vs reference (|estimate - ref| / ref)'\n" +
+           plotSeries("mem", mem_series)},
+      {"sampling_speed_vs_error",
+       "set title 'Sampling speed vs error of the fixed estimate (all materials)'\n"
+       "set logscale xy\nset xlabel 'rel. error vs reference'\nset ylabel 'samples/s (one core, direction + pdf)'\n" +
+           plotSeries("speed", speed_series)},
+      {"sampling_efficiency", [&] {
+         std::ostringstream b;
+         b << "set title 'efficiency = 1 / (variance * seconds) of the environment-lit radiance estimate'\n"
+           << "set logscale y\nset ylabel 'efficiency (1 / (variance * s))'\nset style data histogram\n"
+           << "set style histogram clustered gap 1\nset style fill solid 0.85 border -1\nset boxwidth 0.9\n"
+           << "set xtics rotate by -30 noenhanced\nset yrange [*:*]\n";
+         b << "plot ";
+         for (std::size_t i = 0; i < bar_titles.size(); ++i)
+           b << (i ? ", " : "") << "$eff using " << i + 2 << (i ? "" : ":xtic(1)") << " title " << gpQuote(bar_titles[i]);
+         b << "\n";
+         return b.str();
+       }()},
+  };
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> renames;
+  for (const Chart& c : charts) {
+    for (const char* ext : {".png", ".svg"}) {
+      const std::filesystem::path final_path = folder / (c.stem + ext);
+      const std::filesystem::path temporary = folder / (c.stem + ".part" + ext);
+      const bool png = std::string(ext) == ".png";
+      script << "reset\nset datafile missing '?'\nset grid\nset key outside right top noenhanced\n"
+             << (png ? (cairo ? "set terminal pngcairo size 1200,700 font 'DejaVu Sans,11'\n"
+                              : "set terminal png size 1200,700\n")
+                     : "set terminal svg size 1200,700 font 'DejaVu Sans,11'\n")
+             << "set output " << gpQuote(temporary.string()) << '\n'
+             << c.body << "unset output\n";
+      renames.emplace_back(temporary, final_path);
+    }
+  }
+  const std::filesystem::path script_path = folder / "sampling_charts.gp";
+  writeFileAtomically(script_path, [&](std::ofstream& out) { out << script.str(); });
+  const std::filesystem::path log_path = folder / "sampling_charts.log.part";
+  const std::string command = shellQuote(gnuplot.string()) + ' ' + shellQuote(script_path.string()) + " >" +
+                              shellQuote(log_path.string()) + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::string log;
+  {
+    std::ifstream in(log_path);
+    std::getline(in, log, '\0');
+  }
+  std::error_code ec;
+  std::filesystem::remove(log_path, ec);
+  if (status != 0) {
+    for (const auto& [temporary, final_path] : renames) std::filesystem::remove(temporary, ec);
+    outcome.message = "gnuplot failed (charts skipped, CSV written): " + log.substr(0, 400);
+    return outcome;
+  }
+  for (const auto& [temporary, final_path] : renames) {
+    std::filesystem::rename(temporary, final_path);
+    outcome.files.push_back(final_path);
+  }
+  return outcome;
+}
+
+}  // namespace btf::cli

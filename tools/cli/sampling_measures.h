@@ -1,0 +1,35 @@
+// The measures of `btf bench sampling` (names as in ARCHITECTURE.md, Measures):
+// - samples_per_s: single-thread draws per second of a direction with its pdf (drawDirection).
+// - the fixed estimate: reflected radiance L(wo) = integral of f(wi, wo) cos(theta_i) E(wi) dwi,
+//   of the material lit by the smooth sky-like environment E below, by N samples of sample()
+//   (weight times E; a draw with no direction counts 0).
+// - variance: of that N-sample mean (the sample variance of the terms over N); seconds: the time of
+//   the N draws, single thread; efficiency = 1 / (variance * seconds), which does not depend on N.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+#include "btf/material/material.h"
+
+namespace btf::cli {
+
+// Radiance arriving from direction w (local frame, +z the normal): a sky brighter towards the
+// zenith plus a broad sun-like lobe, smooth so that every sampler's estimate has finite variance.
+float environmentRadiance(const glm::vec3& w);
+
+struct Estimate {
+  double mean = 0;
+  double variance = 0;  // of the mean
+  double seconds = 0;   // wall time of the draws, one thread
+  double efficiency() const { return 1.0 / (variance * seconds); }
+};
+
+// The fixed estimate with `count` draws of sampled.sample(wo, .) from stream `seed`.
+Estimate estimateReflectedRadiance(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
+
+// drawDirection per second on one thread over `count` draws.
+double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
+
+}  // namespace btf::cli

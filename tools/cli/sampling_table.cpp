@@ -1,0 +1,38 @@
+#include "sampling_table.h"
+
+#include <fstream>
+#include <iomanip>
+#include <limits>
+
+#include "btf/io/atomic_file.h"
+
+namespace btf::cli {
+
+const std::vector<std::string>& samplingCsvColumns() {
+  static const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes",
+                                                   "samples_per_s", "chi2_statistic", "chi2_p", "variance",
+                                                   "seconds", "efficiency", "rel_error_vs_reference"};
+  return columns;
+}
+
+void writeSamplingCsv(const std::filesystem::path& path, const std::vector<SamplingRow>& rows) {
+  writeFileAtomically(path, [&](std::ofstream& out) {
+    const auto& columns = samplingCsvColumns();
+    for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+    out << '\n' << std::setprecision(6);
+    auto optional = [&](const std::optional<double>& v) {
+      if (v) out << *v;
+    };
+    // Names hold no commas or quotes (presets, MERL names, file stems), so no quoting is needed.
+    for (const SamplingRow& r : rows) {
+      out << r.material << ',' << r.sampler << ',';
+      optional(r.parameter);
+      out << ',';
+      optional(r.bytes);
+      out << ',' << r.samples_per_s << ',' << r.chi2_statistic << ',' << r.chi2_p << ',' << r.variance << ','
+          << r.seconds << ',' << r.efficiency << ',' << r.rel_error_vs_reference << '\n';
+    }
+  });
+}
+
+}  // namespace btf::cli

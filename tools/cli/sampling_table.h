@@ -1,0 +1,32 @@
+// The rows of `btf bench sampling` and their CSV file (sampling.csv): one row per material and
+// sampler setting, columns
+//   material, sampler, parameter, bytes, samples_per_s, chi2_statistic, chi2_p, variance, seconds,
+//   efficiency, rel_error_vs_reference
+// parameter is epsilon for dp-cdf, the threshold for quadtree, empty otherwise; bytes is empty when
+// the sampler does not report its memory (a material's own sampler); see sampling_measures.h.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace btf::cli {
+
+struct SamplingRow {
+  std::string material, sampler;
+  std::optional<double> parameter;
+  std::optional<double> bytes;
+  double samples_per_s = 0;
+  double chi2_statistic = 0, chi2_p = 0;
+  double variance = 0, seconds = 0, efficiency = 0;
+  double rel_error_vs_reference = 0;
+};
+
+// The column names, in order.
+const std::vector<std::string>& samplingCsvColumns();
+
+// Writes the CSV atomically (FileError on failure).
+void writeSamplingCsv(const std::filesystem::path& path, const std::vector<SamplingRow>& rows);
+
+}  // namespace btf::cli
