@@ -29,6 +29,14 @@ std::unique_ptr<btf::RglBrdf> load(benchmark::State& state) {
   return std::make_unique<btf::RglBrdf>(path);
 }
 
+// Uniform numbers for sample(), drawn before timing so the loops measure the sampler only.
+std::vector<glm::vec2> unitSquarePoints(std::uint64_t seed) {
+  btf::Rng rng(seed, 0);
+  std::vector<glm::vec2> u(kDirections);
+  for (auto& x : u) x = rng.uniform2D();
+  return u;
+}
+
 std::vector<glm::vec3> directions(std::uint64_t seed) {
   btf::Rng rng(seed, 0);
   std::vector<glm::vec3> out(kDirections);
@@ -40,9 +48,7 @@ void BM_RglSampleAndPdf(benchmark::State& state) {
   const auto material = load(state);
   if (!material) return;
   const std::vector<glm::vec3> views = directions(1);
-  btf::Rng rng(2, 0);
-  std::vector<glm::vec2> u(kDirections);
-  for (auto& x : u) x = rng.uniform2D();
+  const std::vector<glm::vec2> u = unitSquarePoints(2);
   std::size_t i = 0;
   for (auto _ : state) {
     const auto s = material->sample(views[i], {}, u[i]);
@@ -58,9 +64,7 @@ void BM_RglSampleOnly(benchmark::State& state) {
   const auto material = load(state);
   if (!material) return;
   const std::vector<glm::vec3> views = directions(1);
-  btf::Rng rng(2, 0);
-  std::vector<glm::vec2> u(kDirections);
-  for (auto& x : u) x = rng.uniform2D();
+  const std::vector<glm::vec2> u = unitSquarePoints(2);
   std::size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(material->sample(views[i], {}, u[i]));

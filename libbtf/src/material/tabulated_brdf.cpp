@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "btf/core/error.h"
+#include "btf/core/fast_atan.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
@@ -21,29 +22,8 @@ constexpr int kNd = MerlTable::kThetaDiffRes;
 constexpr int kNp = MerlTable::kPhiDiffRes;
 constexpr std::size_t kCells = MerlTable::kEntriesPerChannel;
 
-// atan(a) for a in [0, 1] as a * P(a^2), a least-squares fit with minimax weights made for this
-// file; absolute error below 3e-7 rad, i.e. 2e-5 of a table cell (1 degree). Much cheaper than
-// std::atan2/std::acos, which would otherwise dominate a lookup.
-inline float atanUnit(float a) {
-  const float t = a * a;
-  float p = 6.811792888e-03f;
-  p = p * t - 3.360421950e-02f;
-  p = p * t + 7.962367142e-02f;
-  p = p * t - 1.323334207e-01f;
-  p = p * t + 1.980781557e-01f;
-  p = p * t - 3.331736806e-01f;
-  p = p * t + 9.999961116e-01f;
-  return a * p;
-}
-
-// atan2(y, x) for y >= 0, in [0, pi]; 0 when both are 0.
-inline float atan2UpperHalf(float y, float x) {
-  const float ax = std::abs(x);
-  const float hi = std::max(ax, y), lo = std::min(ax, y);
-  float angle = hi > 0 ? atanUnit(lo / hi) : 0.0f;
-  if (y > ax) angle = kHalfPi - angle;
-  return x < 0 ? kPi - angle : angle;
-}
+// atan2(y, x) for y >= 0, in [0, pi]: std::atan2/std::acos would otherwise dominate a lookup.
+inline float atan2UpperHalf(float y, float x) { return kTwoPi * fastAtan2Turns(y, x); }
 
 // Continuous table coordinates (u_h, u_d, u_p) of a direction pair above the horizon: the same
 // mapping as MerlTable::*Coordinate, computed from dot and cross products without normalizing.
