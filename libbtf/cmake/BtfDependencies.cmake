@@ -10,6 +10,8 @@ find_package(Boost 1.74 REQUIRED)   # header-only Boost.Math (chi-square distrib
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(zstd CONFIG REQUIRED)
+find_package(Eigen3 CONFIG REQUIRED)  # per-view PCA baseline (Ceres depends on it anyway)
+find_package(ZLIB REQUIRED)           # CRC-32 of .btfz sections
 
 # Debian's OpenImageIO package lists /usr/include/opencv4 as an include directory although OpenCV
 # is not a dependency of the -dev package. Filter the missing folder out instead of installing OpenCV.

@@ -1,0 +1,91 @@
+// Measured BTF data: RGB reflectance over texels (x, y) x 81 view directions x 81 light
+// directions (btf_directions.h). The value is what image-based BTF measurements store: the
+// reflected radiance towards the view over the irradiance a flat sample would receive from the
+// light, i.e. an "apparent BRDF" (1/sr) that includes the microgeometry's masking, shadowing and
+// interreflection; a flat sample of a BRDF f gives f itself.
+//
+// BtfSource is the streaming interface: a consumer asks for one view at a time (all 81 lights for
+// every texel, 81 * width * height RGB values: 64 MiB for 256 x 256 texels), so a 256 x 256 BTF
+// (5 GiB as float) never has to sit in memory whole. Readers (btf_images.h), the compressed forms
+// (compress/) and the in-memory BtfData all implement it, so comparisons and converters work on
+// any pair of them.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "btf/core/btf_directions.h"
+#include "btf/core/rgb.h"
+
+namespace btf {
+
+class BtfSource {
+ public:
+  virtual ~BtfSource() = default;
+  virtual int width() const = 0;
+  virtual int height() const = 0;
+  // Fills out (resized) with the view's values, light-major: out[(light * height + y) * width + x].
+  // Throws btf::Error / FileError (naming the file) on unreadable data.
+  virtual void loadView(int view, std::vector<Rgb>& out) const = 0;
+  // Short description for reports, e.g. the folder name.
+  virtual std::string name() const = 0;
+
+  std::size_t texelCount() const { return std::size_t(width()) * std::size_t(height()); }
+  // Entries of the whole BTF: texels x 81 x 81 (each an RGB triple).
+  std::size_t entryCount() const { return texelCount() * kBtfDirectionCount * kBtfDirectionCount; }
+};
+
+// Random access to single entries, for evaluation (material/btf_material.h). Implemented by the
+// in-memory BtfData and by the compressed forms, which decode one entry without decoding more.
+class BtfLookup {
+ public:
+  virtual ~BtfLookup() = default;
+  virtual int lookupWidth() const = 0;
+  virtual int lookupHeight() const = 0;
+  virtual Rgb value(int x, int y, int view, int light) const = 0;
+};
+
+// A BTF held in memory, view-major: at(x, y, view, light). For tests, small generated data and
+// one-texel BTFs made from BRDFs.
+class BtfData final : public BtfSource, public BtfLookup {
+ public:
+  BtfData(int width, int height, std::string name = "btf");  // zero-filled; throws for sizes < 1
+  int width() const override { return width_; }
+  int height() const override { return height_; }
+  std::string name() const override { return name_; }
+  void loadView(int view, std::vector<Rgb>& out) const override;
+  int lookupWidth() const override { return width_; }
+  int lookupHeight() const override { return height_; }
+  Rgb value(int x, int y, int view, int light) const override { return at(x, y, view, light); }
+
+  Rgb& at(int x, int y, int view, int light) { return values_[index(x, y, view, light)]; }
+  const Rgb& at(int x, int y, int view, int light) const { return values_[index(x, y, view, light)]; }
+  // The view's block, light-major as loadView writes it.
+  Rgb* view(int view) { return values_.data() + std::size_t(view) * viewSize(); }
+  const Rgb* view(int view) const { return values_.data() + std::size_t(view) * viewSize(); }
+  std::size_t viewSize() const { return std::size_t(kBtfDirectionCount) * texelCount(); }
+
+  // Reads a whole source into memory (progress reported per view).
+  static BtfData copyOf(const BtfSource& source);
+
+ private:
+  std::size_t index(int x, int y, int view, int light) const {
+    return ((std::size_t(view) * kBtfDirectionCount + std::size_t(light)) * std::size_t(height_) + std::size_t(y)) *
+               std::size_t(width_) + std::size_t(x);
+  }
+  int width_, height_;
+  std::string name_;
+  std::vector<Rgb> values_;
+};
+
+// Errors of one BTF against a reference over all entries and channels (names as ARCHITECTURE.md):
+// rel_rmse = RMSE / RMS of the reference; psnr_db = 20 log10(max of the reference / RMSE).
+// Throws btf::Error if the sizes differ or the reference is all zero.
+struct BtfErrorStats {
+  double rel_rmse = 0, psnr_db = 0, rmse = 0, reference_rms = 0, reference_max = 0;
+  std::size_t entries = 0;
+};
+BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test);
+
+}  // namespace btf

@@ -1,0 +1,67 @@
+#include "btf/io/btf_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
+
+namespace btf {
+
+BtfData::BtfData(int width, int height, std::string name) : width_(width), height_(height), name_(std::move(name)) {
+  if (width < 1 || height < 1)
+    throw Error("BTF size " + std::to_string(width) + " x " + std::to_string(height) + " is invalid: both must be >= 1");
+  values_.assign(viewSize() * kBtfDirectionCount, Rgb());
+}
+
+void BtfData::loadView(int v, std::vector<Rgb>& out) const {
+  if (v < 0 || v >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(v) + " is out of range");
+  out.assign(view(v), view(v) + viewSize());
+}
+
+BtfData BtfData::copyOf(const BtfSource& source) {
+  BtfData data(source.width(), source.height(), source.name());
+  std::vector<Rgb> buffer;
+  Progress progress("reading " + source.name(), kBtfDirectionCount);
+  for (int v = 0; v < kBtfDirectionCount; ++v) {
+    source.loadView(v, buffer);
+    std::copy(buffer.begin(), buffer.end(), data.view(v));
+    progress.advance();
+  }
+  return data;
+}
+
+BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test) {
+  if (reference.width() != test.width() || reference.height() != test.height())
+    throw Error("cannot compare " + test.name() + " (" + std::to_string(test.width()) + " x " +
+                std::to_string(test.height()) + " texels) with " + reference.name() + " (" +
+                std::to_string(reference.width()) + " x " + std::to_string(reference.height()) + ")");
+  std::vector<Rgb> a, b;
+  double squared_error = 0, squared_reference = 0, max_reference = 0;
+  Progress progress("comparing " + test.name(), kBtfDirectionCount);
+  for (int v = 0; v < kBtfDirectionCount; ++v) {
+    reference.loadView(v, a);
+    test.loadView(v, b);
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double r = a[i][c], d = double(b[i][c]) - r;
+        squared_error += d * d;
+        squared_reference += r * r;
+        max_reference = std::max(max_reference, r);
+      }
+    progress.advance();
+  }
+  BtfErrorStats s;
+  s.entries = reference.entryCount();
+  const double n = double(s.entries) * 3.0;
+  if (!(squared_reference > 0)) throw Error(reference.name() + ": the reference BTF is all zero; relative errors are undefined");
+  s.rmse = std::sqrt(squared_error / n);
+  s.reference_rms = std::sqrt(squared_reference / n);
+  s.reference_max = max_reference;
+  s.rel_rmse = s.rmse / s.reference_rms;
+  s.psnr_db = s.rmse > 0 ? 20.0 * std::log10(max_reference / s.rmse) : std::numeric_limits<double>::infinity();
+  return s;
+}
+
+}  // namespace btf
