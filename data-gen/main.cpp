@@ -14,6 +14,7 @@
 #include "btf/material/albedo.h"
 #include "btf/material/tabulated_brdf.h"
 #include "acquisition_response.h"
+#include "btf_command.h"
 #include "merl_fit_report.h"
 #include "presets.h"
 #include "table_artifacts.h"
@@ -195,8 +196,11 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"btf-datagen: synthetic measured BRDFs in the MERL .binary format.\n"
                "Tabulates an analytic preset with what real measurements have (tint, grazing falloff,\n"
-               "multiplicative noise, unmeasured holes), deterministic from --seed.",
+               "multiplicative noise, unmeasured holes), deterministic from --seed.\n"
+               "`btf-datagen btf ...` generates a synthetic BTF image folder instead (see btf-datagen btf --help).",
                "btf-datagen"};
+  btf::datagen::BtfCommandOptions btf_options;
+  CLI::App* btf_command = btf::datagen::addBtfCommand(app, btf_options);
   app.add_flag("--list-presets", o.list, "List the presets with their analytic albedo at normal incidence");
   auto* preset = app.add_option("--preset", o.preset, "Material preset (see --list-presets)");
   auto* merl_fit = app.add_option("--merl-fit", o.merl_fit,
@@ -231,7 +235,8 @@ int main(int argc, char** argv) {
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);
-    btf::datagen::run(o);
+    if (btf_command->parsed()) btf::datagen::runBtfCommand(btf_options);
+    else btf::datagen::run(o);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const std::exception& e) {

@@ -19,6 +19,7 @@
 #include "btf/material/ggx.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/sampling/binned_sampler.h"
+#include "btf/sampling/dp_cdf_sampler.h"
 #include "btf/sampling/warp.h"
 
 namespace {
@@ -172,6 +173,23 @@ BENCHMARK_CAPTURE(BM_Full, merl_quadtree, K::Quadtree, true, 0.0f);
 BENCHMARK_CAPTURE(BM_Direction, ggx_dp_eps1e-3, K::DpCdf, false, 1e-3f);
 BENCHMARK_CAPTURE(BM_Direction, ggx_quadtree, K::Quadtree, false, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, ggx_dp_eps1e-3, K::DpCdf, false, 1e-3f);
+
+// Table size of the DP sampler against the full float CDFs of the same grid, per epsilon (the
+// sampler is built once; the timed loop is empty). Counters: bytes_ratio = bytes / full_cdf_bytes,
+// vertices per CDF and the largest deviation of a stored CDF from its full CDF.
+void BM_Memory(benchmark::State& state, float epsilon) {
+  const btf::BinnedSampler& s = sampler(btf::SamplerKind::DpCdf, true, epsilon);
+  for (auto _ : state) benchmark::DoNotOptimize(&s);
+  const btf::SamplerStats st = s.stats();
+  state.counters["bytes"] = double(st.bytes);
+  state.counters["bytes_ratio"] = double(st.bytes) / double(st.full_cdf_bytes);
+  state.counters["vertices_per_cdf"] = st.mean_elements_per_cdf;
+  state.counters["max_deviation"] = static_cast<const btf::DpCdfSampler&>(s).maxCdfDeviation();
+}
+BENCHMARK_CAPTURE(BM_Memory, merl_dp_eps1e-3, 1e-3f)->Iterations(1);
+BENCHMARK_CAPTURE(BM_Memory, merl_dp_eps3e-3, 3e-3f)->Iterations(1);
+BENCHMARK_CAPTURE(BM_Memory, merl_dp_eps1e-2, 1e-2f)->Iterations(1);
+BENCHMARK_CAPTURE(BM_Memory, merl_dp_eps3e-2, 3e-2f)->Iterations(1);
 
 // The material's own sampler, for scale.
 void BM_FullOwnSampler(benchmark::State& state, bool merl) {

@@ -97,7 +97,8 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
   ASSERT_GE(rows.size(), 2u);
   const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes", "samples_per_s",
                                             "chi2_statistic", "chi2_p", "variance", "seconds", "efficiency",
-                                            "rel_error_vs_reference"};
+                                            "rel_error_vs_reference", "per_sample_variance", "full_cdf_bytes",
+                                            "acceptance_rate"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -106,8 +107,29 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
     EXPECT_GT(std::stod(rows[i][4]), 0.0) << "samples_per_s of " << rows[i][1];
     EXPECT_GT(std::stod(rows[i][9]), 0.0) << "efficiency of " << rows[i][1];
   }
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const std::string& sampler = rows[i][1];
+    // The reference is a quadrature of the same material: every unbiased sampler's estimate lies
+    // near it (5000 draws; 20% is many standard errors for all but the uniform warp).
+    if (sampler != "uniform") {
+      EXPECT_LT(std::stod(rows[i][10]), 0.2) << "rel_error_vs_reference of " << sampler;
+    }
+    EXPECT_GT(std::stod(rows[i][11]), 0.0) << "per_sample_variance of " << sampler;
+    const bool tables = sampler == "tabulated" || sampler == "dp-cdf" || sampler == "quadtree";
+    EXPECT_EQ(rows[i][12].empty(), !tables) << "full_cdf_bytes of " << sampler;
+    EXPECT_EQ(rows[i][13].empty(), sampler != "quadtree") << "acceptance_rate of " << sampler;
+    if (sampler == "quadtree") {
+      EXPECT_GE(std::stod(rows[i][13]), 0.25) << "bilinear leaves accept at least a quarter";
+      EXPECT_LE(std::stod(rows[i][13]), 1.0);
+    }
+  }
   for (const char* sampler : {"uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree"})
     EXPECT_GE(per_sampler[sampler], 1) << sampler;
+  // The printed conclusions: the quadtree's standing against DP-CDF and the memory target.
+  EXPECT_NE(r.output.find("Quadtree beats DP-CDF"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Quadtree loses to DP-CDF"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("DP-CDF memory target"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(quadrature"), std::string::npos) << r.output;
   EXPECT_GE(per_sampler["dp-cdf"], 2) << "a sweep of epsilon";
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     for (const char* chart : {"sampling_memory_vs_error", "sampling_speed_vs_error", "sampling_efficiency"})

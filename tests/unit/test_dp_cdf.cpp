@@ -1,5 +1,6 @@
 // Douglas-Peucker and fewest-vertex reduction of 1D CDFs (dp_cdf.h): tolerance kept, vertex
-// counts ordered, extreme tolerances, sampling and pdf of the reduced polyline.
+// counts ordered, extreme tolerances, sampling and pdf of the reduced polyline; the sampler's
+// compact storage.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -8,6 +9,9 @@
 #include "btf/core/rng.h"
 #include "btf/sampling/cdf1d.h"
 #include "btf/sampling/dp_cdf.h"
+#include "btf/sampling/dp_cdf_sampler.h"
+#include "btf/sampling/warp.h"
+#include "sampler_test_materials.h"
 
 namespace {
 
@@ -80,4 +84,28 @@ TEST(DpCdf, RejectsNegativeOrNanEpsilon) {
   std::vector<btf::CdfVertex> v;
   EXPECT_THROW(btf::reduceCdf(cdf, -1.0f, btf::CdfReduction::DouglasPeucker, v), btf::Error);
   EXPECT_THROW(btf::reduceCdf(cdf, std::nanf(""), btf::CdfReduction::Fewest, v), btf::Error);
+}
+
+// The sampler's compact storage (dp_cdf_sampler.h): 16-bit CDF values from kNarrowEpsilon on,
+// with the deviation measured on what is stored (within epsilon + half a quantum), floats below;
+// sample()'s pdf (its shortcut or pdf()'s path) equals pdf() of the drawn direction on every draw,
+// on an isotropic and an anisotropic material.
+TEST(DpCdfSampler, StoredCdfsStayWithinEpsilonPlusHalfAQuantumAndSamplePdfIsPdf) {
+  const auto& mats = btf::test::samplerTestMaterials();
+  for (std::size_t m : {std::size_t(2), std::size_t(3)}) {
+    for (float eps : {1e-4f, 1e-3f, 1e-2f}) {
+      btf::SamplerOptions o = btf::test::coarseSamplerOptions();
+      o.epsilon = eps;
+      const btf::DpCdfSampler s(mats[m].material, o);
+      EXPECT_EQ(s.cdfQuantum() > 0.0, eps >= btf::DpCdfSampler::kNarrowEpsilon) << "eps " << eps;
+      EXPECT_LE(s.maxCdfDeviation(), eps + s.cdfQuantum() / 2 + 1e-6) << mats[m].label << " eps " << eps;
+      btf::Rng rng(3);
+      for (int k = 0; k < 5000; ++k) {
+        const glm::vec3 wo = btf::squareToUniformHemisphere(rng.uniform2D());
+        const auto d = s.sample(wo, {}, rng.uniform2D());
+        ASSERT_TRUE(d);
+        ASSERT_EQ(d->pdf, s.pdf(d->wi, wo)) << mats[m].label << " eps " << eps;
+      }
+    }
+  }
 }

@@ -20,7 +20,7 @@ struct BenchMaterial {
   std::shared_ptr<const Material> material;
 };
 
-// The default list: presets from diffuse to near-mirror, a few MERL fits, and every RGL file found.
+// The default list: every generator preset, two MERL fits, and every RGL file found.
 // With `quick`, one preset only.
 std::vector<std::string> defaultBenchMaterialNames(bool quick);
 

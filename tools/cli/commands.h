@@ -12,5 +12,6 @@ void registerConvertCommand(CLI::App& app);
 void registerPlotCommand(CLI::App& app);
 void registerSampleCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+void registerCompressCommands(CLI::App& app);  // compress and decompress
 
 }  // namespace btf::cli

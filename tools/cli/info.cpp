@@ -18,6 +18,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
 #include "merl_fit_report.h"
+#include "btf_input.h"
 #include "measured_file.h"
 
 namespace btf::cli {
@@ -104,6 +105,10 @@ void runRglInfo(const std::string& file, bool json) {
 }
 
 void runInfo(const std::string& file, bool json, const std::string& fits_of) {
+  if (isBtfPath(file)) {
+    runBtfInfo(file, json);
+    return;
+  }
   const MeasuredFormat format = measuredFormatOf(file);
   if (format == MeasuredFormat::RglTensor) return runRglInfo(file, json);
   auto table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
@@ -153,7 +158,7 @@ void registerInfoCommand(CLI::App& app) {
                                          "unmeasured samples, albedo at theta_o = 0, 30, 60, 75 deg");
   auto file = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("FILE", *file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
+  cmd->add_option("FILE", *file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL), BTF image folder or .btfz")->required();
   auto fits_of = std::make_shared<std::string>();
   cmd->add_flag("--json", *json, "Machine-readable output");
   cmd->add_option("--fits-of", *fits_of,

@@ -7,7 +7,7 @@
 #include "terminal.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot, sample, bench)", "btf"};
+  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot, sample, compress, bench)", "btf"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "btf 0.1.0");
   btf::cli::registerInfoCommand(app);
@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   btf::cli::registerPlotCommand(app);
   btf::cli::registerSampleCommand(app);
   btf::cli::registerBenchCommand(app);
+  btf::cli::registerCompressCommands(app);
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);

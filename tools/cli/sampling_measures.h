@@ -22,12 +22,25 @@ float environmentRadiance(const glm::vec3& w);
 struct Estimate {
   double mean = 0;
   double variance = 0;  // of the mean
+  double per_sample_variance = 0;  // of one term (variance times the draw count)
   double seconds = 0;   // wall time of the draws, one thread
   double efficiency() const { return 1.0 / (variance * seconds); }
 };
 
 // The fixed estimate with `count` draws of sampled.sample(wo, .) from stream `seed`.
 Estimate estimateReflectedRadiance(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
+
+// The exact value of the fixed estimate by deterministic quadrature: the midpoint rule over
+// (theta_i, phi_i) with theta_steps x 2 theta_steps cells (material.eval, no sampler involved),
+// computed at theta_steps and at twice that and extrapolated (Richardson: the rule's error falls by
+// 4 per halving); `error` is the finer rule's estimated error, |fine - coarse| / 3. Parallel over rows, summed in row order,
+// so the value does not depend on the thread count.
+struct Quadrature {
+  double value = 0;
+  double error = 0;
+  double seconds = 0;
+};
+Quadrature referenceRadiance(const Material& material, const glm::vec3& wo, int theta_steps);
 
 // drawDirection per second on one thread over `count` draws.
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);

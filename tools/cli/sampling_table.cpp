@@ -11,7 +11,8 @@ namespace btf::cli {
 const std::vector<std::string>& samplingCsvColumns() {
   static const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes",
                                                    "samples_per_s", "chi2_statistic", "chi2_p", "variance",
-                                                   "seconds", "efficiency", "rel_error_vs_reference"};
+                                                   "seconds", "efficiency", "rel_error_vs_reference",
+                                                   "per_sample_variance", "full_cdf_bytes", "acceptance_rate"};
   return columns;
 }
 
@@ -30,7 +31,11 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       out << ',';
       optional(r.bytes);
       out << ',' << r.samples_per_s << ',' << r.chi2_statistic << ',' << r.chi2_p << ',' << r.variance << ','
-          << r.seconds << ',' << r.efficiency << ',' << r.rel_error_vs_reference << '\n';
+          << r.seconds << ',' << r.efficiency << ',' << r.rel_error_vs_reference << ',' << r.per_sample_variance << ',';
+      optional(r.full_cdf_bytes);
+      out << ',';
+      optional(r.acceptance_rate);
+      out << '\n';
     }
   });
 }

@@ -1,7 +1,11 @@
 // The rows of `btf bench sampling` and their CSV file (sampling.csv): one row per material and
 // sampler setting, columns
 //   material, sampler, parameter, bytes, samples_per_s, chi2_statistic, chi2_p, variance, seconds,
-//   efficiency, rel_error_vs_reference
+//   efficiency, rel_error_vs_reference, per_sample_variance, full_cdf_bytes, acceptance_rate
+// rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);
+// full_cdf_bytes (the float CDFs of the full grid, for memory ratios) is empty for warps and a
+// material's own sampler; acceptance_rate is the quadtree's mean per-proposal acceptance over its
+// bins, and its acceptance in the measured wo's bin is printed by the bench.
 // parameter is epsilon for dp-cdf, the threshold for quadtree, empty otherwise; bytes is empty when
 // the sampler does not report its memory (a material's own sampler); see sampling_measures.h.
 #pragma once
@@ -21,6 +25,9 @@ struct SamplingRow {
   double chi2_statistic = 0, chi2_p = 0;
   double variance = 0, seconds = 0, efficiency = 0;
   double rel_error_vs_reference = 0;
+  double per_sample_variance = 0;
+  std::optional<double> full_cdf_bytes;
+  std::optional<double> acceptance_rate;
 };
 
 // The column names, in order.

@@ -8,6 +8,17 @@
 #include "btf/core/progress.h"
 
 namespace btf {
+namespace {
+
+// A source whose views have the wrong length would make the copies below overrun their buffers.
+void requireViewSize(const BtfSource& source, int view, std::size_t size) {
+  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
+  if (size != expected)
+    throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
+                " values, expected " + std::to_string(expected));
+}
+
+}  // namespace
 
 BtfData::BtfData(int width, int height, std::string name) : width_(width), height_(height), name_(std::move(name)) {
   if (width < 1 || height < 1)
@@ -26,6 +37,7 @@ BtfData BtfData::copyOf(const BtfSource& source) {
   Progress progress("reading " + source.name(), kBtfDirectionCount);
   for (int v = 0; v < kBtfDirectionCount; ++v) {
     source.loadView(v, buffer);
+    requireViewSize(source, v, buffer.size());
     std::copy(buffer.begin(), buffer.end(), data.view(v));
     progress.advance();
   }
@@ -42,7 +54,9 @@ BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test) {
   Progress progress("comparing " + test.name(), kBtfDirectionCount);
   for (int v = 0; v < kBtfDirectionCount; ++v) {
     reference.loadView(v, a);
+    requireViewSize(reference, v, a.size());
     test.loadView(v, b);
+    requireViewSize(test, v, b.size());
     for (std::size_t i = 0; i < a.size(); ++i)
       for (int c = 0; c < 3; ++c) {
         const double r = a[i][c], d = double(b[i][c]) - r;

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "btf/core/error.h"
@@ -77,41 +78,16 @@ BinnedSampler::BinnedSampler(std::shared_ptr<const Material> material, const Sam
     theta_guide_[g] = static_cast<std::uint16_t>(
         std::count_if(cos_theta_o_edges_.begin(), cos_theta_o_edges_.end(), [&](float e) { return e >= upper; }));
   }
-}
-
-std::size_t BinnedSampler::binOf(const glm::vec3& wo) const {
-  // Nearest bin in theta_o = the bin whose edges enclose it; cos decreases with theta, so the bin
-  // is the number of inner edges e >= wo.z (no acos needed). The guide gives a lower bound (all
-  // edges before it are >= the top of wo.z's guide cell); the scan counts the rest exactly as a
-  // bisection would. NaN or z outside [0, 1] only costs a longer scan or the first cell.
-  const float scaled = wo.z * float(theta_guide_.size() - 1);
-  const std::size_t g = scaled > 0.0f ? std::min(static_cast<std::size_t>(scaled), theta_guide_.size() - 1) : 0;
-  std::size_t theta_bin = theta_guide_[g];
-  while (theta_bin < cos_theta_o_edges_.size() && cos_theta_o_edges_[theta_bin] >= wo.z) ++theta_bin;
-  if (!anisotropic_) return theta_bin;
-  const float t = sphericalPhi(wo) * kInv2Pi * float(phi_o_bins_);
-  const std::size_t phi_bin = std::min(static_cast<std::size_t>(t), std::size_t(phi_o_bins_ - 1));
-  return theta_bin * phi_o_bins_ + phi_bin;
+  // Sentinels for binOf's branch-free steps: no z (not even NaN) is <= -infinity... except
+  // -infinity itself, which the bounded loop after the steps still handles.
+  cos_theta_o_edges_.push_back(-std::numeric_limits<float>::infinity());
+  cos_theta_o_edges_.push_back(-std::numeric_limits<float>::infinity());
 }
 
 glm::vec3 BinnedSampler::binDirection(std::size_t bin) const {
   const int theta_bin = int(bin / phi_o_bins_), phi_bin = int(bin % phi_o_bins_);
   const float phi = anisotropic_ ? (float(phi_bin) + 0.5f) / float(phi_o_bins_) * kTwoPi : 0.0f;
   return sphericalDirection(thetaOCentre(theta_bin, theta_o_bins_), phi);
-}
-
-BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
-  BinQuery q{binOf(wo), 1.0f, 0.0f};
-  if (!anisotropic_) {
-    // wo is a unit vector, so x^2 + y^2 cannot overflow: no need for hypot's care (and cost).
-    // Below ~1e-19 the square underflows to 0 and the identity is used, as at the pole itself.
-    const float r2 = wo.x * wo.x + wo.y * wo.y;
-    if (r2 > 0.0f) {
-      const float inv = 1.0f / std::sqrt(r2);
-      q.cos_phi = wo.x * inv, q.sin_phi = wo.y * inv;
-    }
-  }
-  return q;
 }
 
 float BinnedSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <sstream>
@@ -31,62 +32,149 @@ struct ChunkResult {
 // ---- Quadrature of the pdf over one cell, in (theta, phi) where dw = sin(theta) dtheta dphi.
 // Parametrizing by theta rather than cos(theta) keeps a narrow lobe narrow in parameter space even
 // at the pole, so the fixed minimum subdivision below cannot step over it.
+//
+// Two kinds of pdf must be integrated to a small fraction of a draw per cell: smooth lobes, which
+// Gauss-Legendre resolves once rectangles are small, and the piecewise-constant densities of
+// tabulated samplers, whose jumps lie on lines of constant theta or phi (grid rows in cos(theta),
+// columns in phi, rotated about the normal). A jump inside a rectangle costs a Gauss rule an error
+// proportional to the rectangle's width, so refining every rectangle into quarters to a fixed depth
+// left 0.5% errors in the sharpest cells of a near-mirror table (rejecting correct samplers ever
+// more surely as draws grew). Each rectangle therefore also probes the pdf next to its borders and
+// records in which directions it varies: a rectangle that is constant is exact as it is, one that
+// varies along theta only (a jump line of constant theta) is halved along theta only, and so on.
+// A jump line is then followed by a bisection that costs two rectangles per level instead of four
+// times as many per level, which allows far deeper refinement (kMaxDepth) at bounded work; smooth
+// pdfs, which vary both ways, are quartered exactly as before (at most kMaxQuarterDepth times).
 
 constexpr std::array<double, 5> kGaussNodes{-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
                                             0.9061798459386640};
 constexpr std::array<double, 5> kGaussWeights{0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
                                               0.4786286704993665, 0.2369268850561891};
-constexpr int kMinDepth = 3;   // every cell is split into at least 8 x 8 rectangles of 5 x 5 nodes
-constexpr int kMaxDepth = 8;   // cell / 256: resolves lobes far narrower than alpha = 0.02, bounds the work
+// The probe grid: the Gauss nodes plus a point just inside each border. A jump between the border
+// and that point goes unseen, so it sits a millionth of the width inside (at 0.999 the strips
+// missed this way still cost 2e-4 of a sharp cell's count); not on the border itself, where float
+// rounding of the direction would often land across a jump that coincides with the border.
+constexpr double kBorderProbe = 1.0 - 1e-6;
+constexpr std::array<double, 7> kProbes{-kBorderProbe,       -0.9061798459386640, -0.5384693101056831, 0.0,
+                                        0.5384693101056831,  0.9061798459386640,  kBorderProbe};
+constexpr int kMinDepth = 3;         // every cell is split into at least 8 x 8 rectangles
+constexpr int kMaxQuarterDepth = 8;  // quarters: cell / 256, lobes far narrower than alpha = 0.02
+constexpr int kMaxDepth = 30;        // halvings along a jump line: cell / 2^30, below float resolution
+// Values within this relative difference count as equal (a tabulated pdf repeats its float exactly).
+constexpr double kConstantTolerance = 1e-6;
 
 struct Rect {
   double theta0, theta1, phi0, phi1;
 };
 
-double gaussRect(const DirectionPdf& pdf, const Rect& r) {
+struct RectEstimate {
+  double integral = 0;
+  double low = 0, high = 0;  // least and largest probed pdf value
+  bool varies_theta = false, varies_phi = false;
+  bool constant() const { return !varies_theta && !varies_phi; }
+};
+
+double solidAngle(const Rect& r) { return (r.phi1 - r.phi0) * (std::cos(r.theta0) - std::cos(r.theta1)); }
+
+RectEstimate gaussRect(const DirectionPdf& pdf, const Rect& r) {
   const double ht = 0.5 * (r.theta1 - r.theta0), ct = 0.5 * (r.theta1 + r.theta0);
   const double hp = 0.5 * (r.phi1 - r.phi0), cp = 0.5 * (r.phi1 + r.phi0);
-  std::array<double, 5> cos_phi, sin_phi;
-  for (int j = 0; j < 5; ++j) {
-    const double phi = cp + hp * kGaussNodes[j];
+  std::array<double, 7> cos_phi, sin_phi;
+  for (int j = 0; j < 7; ++j) {
+    const double phi = cp + hp * kProbes[j];
     cos_phi[j] = std::cos(phi);
     sin_phi[j] = std::sin(phi);
   }
-  double sum = 0.0;
-  for (int i = 0; i < 5; ++i) {
-    const double theta = ct + ht * kGaussNodes[i];
+  std::array<std::array<double, 7>, 7> v;  // [theta][phi]
+  double sum = 0.0, largest = 0.0, low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int i = 0; i < 7; ++i) {
+    const double theta = ct + ht * kProbes[i];
     const double st = std::sin(theta), z = std::cos(theta);
     double row = 0.0;
-    for (int j = 0; j < 5; ++j) {
+    for (int j = 0; j < 7; ++j) {
       const glm::vec3 w{static_cast<float>(st * cos_phi[j]), static_cast<float>(st * sin_phi[j]), static_cast<float>(z)};
-      row += kGaussWeights[j] * pdf(w);
+      v[i][j] = pdf(w);
+      largest = std::max(largest, std::abs(v[i][j]));
+      low = std::min(low, v[i][j]);
+      high = std::max(high, v[i][j]);
+      if (j >= 1 && j <= 5) row += kGaussWeights[j - 1] * v[i][j];
     }
-    sum += kGaussWeights[i] * st * row;
+    if (i >= 1 && i <= 5) sum += kGaussWeights[i - 1] * st * row;
   }
-  return sum * ht * hp;
+  RectEstimate e;
+  e.integral = sum * ht * hp;
+  e.low = low;
+  e.high = high;
+  const double limit = kConstantTolerance * largest;
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j) {
+      if (std::abs(v[i][j] - v[i][0]) > limit) e.varies_phi = true;
+      if (std::abs(v[i][j] - v[0][j]) > limit) e.varies_theta = true;
+    }
+  return e;
 }
 
 // Float pdfs of sharp lobes carry a relative rounding noise near 1e-4 (cos^n with n in the
-// thousands), which no refinement removes; refining only until the quarters agree with their
+// thousands), which no refinement removes; refining only until the parts agree with their
 // parent to this relative level keeps the work bounded, and its effect on a count E (1e-5 E) stays
 // far below the sqrt(E) scatter of the histogram.
 constexpr double kRelativeTolerance = 1e-5;
+// Error bound, relative to the cell, below which a rectangle is final (see integrateRect).
+constexpr double kJumpFloor = 1e-7;
 // Relative uncertainty allowed in the integral of the pdf over the sphere (see step 3).
 constexpr double kNormalizationSlack = 1e-4;
 
-// Adaptive refinement: compare the rectangle's estimate with the sum over its four quarters.
-double integrateRect(const DirectionPdf& pdf, const Rect& r, double whole, int depth, double tolerance) {
+// Adaptive refinement. A rectangle is final when it is constant (exact), when the spread of its
+// probes times its solid angle bounds its error below `tolerance` or below `floor` (a fixed
+// fraction of the whole cell, so that a jump line is followed only as deep as the cell's count
+// needs), or, for smooth parts, when its estimate agrees with the sum over its parts (quarters, or
+// halves across the one direction in which the pdf varies). That agreement is not trusted across a
+// jump (one part constant, another not): Gauss rules of parent and parts can miss a step by the
+// same amount, which left 2e-4 of a sharp cell's count behind. `quarterings` counts the quarter
+// splits above this rectangle.
+double integrateRect(const DirectionPdf& pdf, const Rect& r, const RectEstimate& whole, int depth, int quarterings,
+                     double tolerance, double floor) {
+  const bool past_minimum = depth >= kMinDepth;
+  if (past_minimum && whole.constant()) return whole.integral;
+  if (past_minimum && (whole.high - whole.low) * solidAngle(r) <= std::max(tolerance, floor)) return whole.integral;
+  const bool split_theta = !past_minimum || whole.varies_theta;
+  const bool split_phi = !past_minimum || whole.varies_phi;
+  const bool quarters = split_theta && split_phi;
   const double tm = 0.5 * (r.theta0 + r.theta1), pm = 0.5 * (r.phi0 + r.phi1);
-  const std::array<Rect, 4> quarters{Rect{r.theta0, tm, r.phi0, pm}, Rect{r.theta0, tm, pm, r.phi1},
-                                     Rect{tm, r.theta1, r.phi0, pm}, Rect{tm, r.theta1, pm, r.phi1}};
-  std::array<double, 4> parts;
-  for (int k = 0; k < 4; ++k) parts[k] = gaussRect(pdf, quarters[k]);
-  const double fine = parts[0] + parts[1] + parts[2] + parts[3];
-  const double error = std::abs(fine - whole);
-  if (depth >= kMaxDepth || (depth >= kMinDepth && (error <= tolerance || error <= kRelativeTolerance * std::abs(fine))))
+  std::array<Rect, 4> parts_rect;
+  int count = 0;
+  if (quarters) {
+    parts_rect = {Rect{r.theta0, tm, r.phi0, pm}, Rect{r.theta0, tm, pm, r.phi1}, Rect{tm, r.theta1, r.phi0, pm},
+                  Rect{tm, r.theta1, pm, r.phi1}};
+    count = 4;
+  } else if (split_theta) {
+    parts_rect[0] = Rect{r.theta0, tm, r.phi0, r.phi1};
+    parts_rect[1] = Rect{tm, r.theta1, r.phi0, r.phi1};
+    count = 2;
+  } else {
+    parts_rect[0] = Rect{r.theta0, r.theta1, r.phi0, pm};
+    parts_rect[1] = Rect{r.theta0, r.theta1, pm, r.phi1};
+    count = 2;
+  }
+  std::array<RectEstimate, 4> parts;
+  double fine = 0.0;
+  int constant_parts = 0;
+  for (int k = 0; k < count; ++k) {
+    parts[k] = gaussRect(pdf, parts_rect[k]);
+    fine += parts[k].integral;
+    if (parts[k].constant()) ++constant_parts;
+  }
+  const bool jump = constant_parts > 0 && constant_parts < count;
+  const double error = std::abs(fine - whole.integral);
+  const int next_quarterings = quarterings + (quarters ? 1 : 0);
+  const bool exhausted = depth >= kMaxDepth || (quarters && next_quarterings >= kMaxQuarterDepth);
+  if (exhausted || (past_minimum && !jump && (error <= tolerance || error <= kRelativeTolerance * std::abs(fine))))
     return fine;
+  // A half keeps most of the tolerance: along a jump line only one half goes on varying.
+  const double part_tolerance = tolerance * (quarters ? 0.5 : 0.7);
   double sum = 0.0;
-  for (int k = 0; k < 4; ++k) sum += integrateRect(pdf, quarters[k], parts[k], depth + 1, 0.5 * tolerance);
+  for (int k = 0; k < count; ++k)
+    sum += integrateRect(pdf, parts_rect[k], parts[k], depth + 1, next_quarterings, part_tolerance, floor);
   return sum;
 }
 
@@ -171,7 +259,10 @@ Chi2Result chi2Test(const DirectionSampler& sampler, const DirectionPdf& pdf, co
     const double z_top = 1.0 - 2.0 * row / nt, z_bottom = 1.0 - 2.0 * (row + 1) / nt;
     const Rect r{std::acos(std::clamp(z_top, -1.0, 1.0)), std::acos(std::clamp(z_bottom, -1.0, 1.0)),
                  2.0 * kPiD * col / np, 2.0 * kPiD * (col + 1) / np};
-    result.expected[k] = static_cast<double>(n) * integrateRect(pdf, r, gaussRect(pdf, r), 1, tolerance);
+    const RectEstimate cell = gaussRect(pdf, r);
+    // Errors below 1e-7 of the cell's count are far below its sqrt(count) scatter.
+    const double floor = kJumpFloor * std::abs(cell.integral);
+    result.expected[k] = static_cast<double>(n) * integrateRect(pdf, r, cell, 0, 0, tolerance, floor);
   });
 
   // 3. Pool sparse cells, then the statistic over the direction cells.

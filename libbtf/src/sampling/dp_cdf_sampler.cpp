@@ -4,23 +4,139 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <numbers>
 #include <span>
+#include <type_traits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/sampling/cdf1d.h"
 
+// The query paths are fused into the virtual entry points: a call between them would go through
+// the PLT of the shared library and block the optimizer.
+#if defined(__GNUC__)
+#define BTF_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define BTF_ALWAYS_INLINE inline
+#endif
+
 namespace btf {
+namespace {
+
+constexpr std::size_t kLeadPad = 1, kTrailPad = 32;
+
+// Value of the last (implicit) vertex, and the scale of a u in [0,1) to compare with the keys.
+template <class Key>
+constexpr float kTop = 1.0f;
+template <>
+constexpr float kTop<std::uint16_t> = 65535.0f;
+
+// Number of entries <= v among the sorted p[0..n), n <= 32; may read p[0..32).
+inline unsigned countLe32(const std::uint16_t* p, unsigned v, unsigned n) {
+#if defined(__SSE2__)
+  // Unsigned 16-bit compare with SSE2's signed one: flip the sign bits of both sides.
+  const __m128i bias = _mm_set1_epi16(short(0x8000));
+  const __m128i key = _mm_set1_epi16(short(v ^ 0x8000u));
+  auto greater = [&](int i) {
+    return _mm_cmpgt_epi16(_mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 8 * i)), bias), key);
+  };
+  const std::uint64_t lo = unsigned(_mm_movemask_epi8(_mm_packs_epi16(greater(0), greater(1))));
+  const std::uint64_t hi = unsigned(_mm_movemask_epi8(_mm_packs_epi16(greater(2), greater(3))));
+  // The keys are sorted, so the entries <= v are a prefix: its length is the first "greater"
+  // lane (lanes past n belong to the next CDF and are cut by the min).
+  const unsigned first_greater = unsigned(__builtin_ctzll(lo | hi << 16 | std::uint64_t(1) << 32));
+  return std::min(first_greater, n);
+#else
+  unsigned c = 0;
+  for (unsigned i = 0; i < n; ++i) c += p[i] <= v;
+  return c;
+#endif
+}
+inline unsigned countLe32(const float* p, float v, unsigned n) {
+  unsigned c = 0;
+  for (unsigned i = 0; i < n; ++i) c += p[i] <= v;
+  return c;
+}
+
+// Number of entries <= v among the sorted p[0..n): `steps` bisection steps (enough to bring the
+// longest CDF of the table down to 32 entries; a step on a range already that short is a no-op),
+// then one block compare. Nothing here branches on the data or on n: a data-dependent branch
+// (a bisection step, or a loop whose count follows n) was mispredicted about once per sample and
+// cost more than the rest of the search.
+template <class Key, class Value>
+inline unsigned countLe(const Key* p, unsigned n, Value v, int steps) {
+  unsigned base = 0;
+  for (int i = 0; i < steps; ++i) {
+    // A mask, not a ternary (which compiles to a branch); half = 0 reads p[base - 1] and adds 0.
+    const unsigned half = (n / 2) & (0u - unsigned(n > 32));
+    base += unsigned(p[int(base + half) - 1] <= v) * half;
+    n -= half;
+  }
+  return base + countLe32(p + base, v, n);
+}
+
+// Segment k of a CDF with m interior vertices at keys[0..m) / nodes[0..m) and implicit end points
+// (node 0, value 0) and (node n, value top). The loads are unconditional (the arrays are padded),
+// the selections arithmetic (k == 0 or k == m is data-dependent: a branch would be mispredicted).
+template <class Key>
+struct Segment {
+  float q0, dq, x0, dx;
+};
+template <class Key>
+inline Segment<Key> segmentAt(const Key* q, const std::uint16_t* x, unsigned k, unsigned m, int n) {
+  const unsigned not_first = unsigned(k != 0), last = unsigned(k == m);
+  const int xa = int(x[int(k) - 1] * not_first), xk = x[k], xb = xk + int(last) * (n - xk);
+  float qa, qb;
+  if constexpr (std::is_same_v<Key, std::uint16_t>) {
+    qa = float(int(q[int(k) - 1] * not_first));
+    qb = float(int(q[k] | (0xffffu * last)));
+  } else {
+    qa = q[int(k) - 1] * float(not_first);
+    qb = last ? 1.0f : q[k];
+  }
+  return {qa, qb - qa, float(xa), float(xb - xa)};
+}
+
+// The one expression for the density, shared by sample() and pdf() so that both agree bit for bit.
+inline float pdfOf(float dq_s, float dx_s, float dq_t, float dx_t, float scale) {
+  return (dq_s / dx_s) * (dq_t / dx_t) * scale;
+}
+
+// Draws inside the segment of u: the position in grid units (within [x0, x1) of the segment).
+template <class Key>
+inline float invert(const Segment<Key>& seg, float uq) {
+  const float t = (uq - seg.q0) / seg.dq;  // in [0, 1): q0 <= uq < q0 + dq
+  const float g = seg.x0 + t * seg.dx, end = seg.x0 + seg.dx;
+  // Stay below the segment's end node (a positive integer: its float below is its bits - 1).
+  return std::min(g, std::bit_cast<float>(std::bit_cast<std::uint32_t>(end) - 1u));
+}
+
+// True if the position g (grid units, cell width 1) is at least margin inside its cell.
+inline bool wellInside(float g, float margin) {
+  const float frac = g - float(int(g));
+  return frac >= margin && frac <= 1.0f - margin;
+}
+
+}  // namespace
 
 DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const SamplerOptions& options)
     : BinnedSampler(std::move(material), options), nu_(options.cos_theta_bins), nv_(options.phi_bins) {
+  narrow_ = options.epsilon >= kNarrowEpsilon && std::max(nu_, nv_) < 65536;
+  const float top = narrow_ ? 65535.0f : 1.0f;
+  pdf_scale_ = float(double(nu_) * double(nv_) / (double(top) * double(top)) * (0.5 / std::numbers::pi));
   const std::vector<float> grid = tabulateGrid(nu_, nv_);
   const std::size_t cdfs_per_bin = std::size_t(nu_) + 1;
-  // Reduce each bin on its own (in parallel), then concatenate in bin order: the layout does not
-  // depend on the thread count.
+  // Reduce and quantize each bin on its own (in parallel), then concatenate in bin order: the
+  // layout does not depend on the thread count.
   struct BinCdfs {
-    std::vector<CdfVertex> vertices;
-    std::vector<std::uint32_t> sizes;
+    std::vector<std::uint16_t> nodes, cdf16;
+    std::vector<float> cdf32;
+    std::vector<std::uint32_t> sizes;  // interior vertices per CDF
     double deviation = 0;
     bool empty = false;
   };
@@ -32,155 +148,166 @@ DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const Sampl
       row_integrals[i] = float(buildCdf1D(std::span(grid).subspan((bin * nu_ + i) * nv_, nv_),
                                           std::span(rows).subspan(std::size_t(i) * (nv_ + 1), nv_ + 1)));
     out.empty = buildCdf1D(row_integrals, marginal) == 0.0;
+    std::vector<CdfVertex> v, stored;
+    std::vector<long> q;
     auto reduce = [&](std::span<const float> full) {
-      const std::size_t before = out.vertices.size();
-      out.sizes.push_back(std::uint32_t(reduceCdf(full, options.epsilon, options.reduction, out.vertices)));
-      out.deviation = std::max(out.deviation, cdfDeviation(full, std::span(out.vertices).subspan(before)));
+      const std::size_t n = full.size() - 1;
+      v.clear();
+      reduceCdf(full, options.epsilon, options.reduction, v);
+      const std::size_t m = v.size() - 2;
+      stored = v;
+      if (narrow_) {
+        // Round to the quantum, keeping the values non-decreasing and every segment that has
+        // mass at >= 1 quantum (a forward then a backward pass; always feasible, as there are at
+        // most n <= 65535 segments).
+        q.assign(v.size(), 0);
+        q.back() = 65535;
+        for (std::size_t j = 1; j <= m; ++j)
+          q[j] = std::max(std::lround(double(v[j].cdf) * 65535.0), q[j - 1] + long(v[j].cdf > v[j - 1].cdf));
+        for (std::size_t j = m; j >= 1; --j)
+          q[j] = std::min(q[j], q[j + 1] - long(v[j + 1].cdf > v[j].cdf));
+        for (std::size_t j = 0; j < v.size(); ++j) stored[j].cdf = float(double(q[j]) / 65535.0);
+      }
+      for (std::size_t j = 1; j <= m; ++j) {
+        out.nodes.push_back(static_cast<std::uint16_t>(std::lround(double(v[j].x) * double(n))));
+        if (narrow_)
+          out.cdf16.push_back(static_cast<std::uint16_t>(q[j]));
+        else
+          out.cdf32.push_back(v[j].cdf);
+      }
+      out.sizes.push_back(std::uint32_t(m));
+      out.deviation = std::max(out.deviation, cdfDeviation(full, stored));
     };
     reduce(marginal);
     for (int i = 0; i < nu_; ++i) reduce(std::span(rows).subspan(std::size_t(i) * (nv_ + 1), nv_ + 1));
   });
-  refs_.reserve(binCount() * cdfs_per_bin);
+  starts_.reserve(binCount() * cdfs_per_bin + 1);
   empty_.resize(binCount());
-  std::vector<std::uint16_t> guide;
-  auto pushGuide = [&] {
-    for (std::size_t g = 0; g < guide.size(); g += 2)
-      words_.push_back(std::uint32_t(guide[g]) | (g + 1 < guide.size() ? std::uint32_t(guide[g + 1]) << 16 : 0u));
-  };
+  nodes_.assign(kLeadPad, 0);
+  if (narrow_)
+    cdf16_.assign(kLeadPad, 0);
+  else
+    cdf32_.assign(kLeadPad, 0.0f);
   for (std::size_t bin = 0; bin < binCount(); ++bin) {
-    const CdfVertex* v = bins[bin].vertices.data();
-    for (std::uint32_t n : bins[bin].sizes) {
-      // Half a cell per segment: the scan then takes one or two steps within the vertex run
-      // (cheap: same or next cache line), for half the guide memory of one cell per segment.
-      const std::size_t segments = n - 1, last = segments - 1, cells = guideCellsFor((segments + 1) / 2);
-      const std::size_t words = words_.size() + 2 * guideWords(cells) + 2 * std::size_t(n);
-      if (words > UINT32_MAX) throw Error("DpCdfSampler: tables beyond 2^32 words; use a coarser grid or a larger epsilon");
-      guide.resize(cells);
-      buildGuide([&](std::size_t i) { return v[i].cdf; }, last, std::span(guide));
-      pushGuide();
-      refs_.push_back({std::uint32_t(words_.size()), std::uint16_t(last), std::uint16_t(std::countr_zero(cells))});
-      for (std::uint32_t k = 0; k < n; ++k) {
-        words_.push_back(std::bit_cast<std::uint32_t>(v[k].x));
-        words_.push_back(std::bit_cast<std::uint32_t>(v[k].cdf));
-      }
-      buildGuide([&](std::size_t i) { return v[i].x; }, last, std::span(guide));
-      pushGuide();
-      v += n;
-      vertex_count_ += n;
+    const BinCdfs& b = bins[bin];
+    std::size_t next = nodes_.size();
+    for (std::uint32_t m : b.sizes) {
+      starts_.push_back(std::uint32_t(next));
+      next += m;
+      vertex_count_ += m + 2;
     }
-    empty_[bin] = bins[bin].empty ? 1 : 0;
-    max_deviation_ = std::max(max_deviation_, bins[bin].deviation);
+    if (next + kTrailPad > UINT32_MAX)
+      throw Error("DpCdfSampler: tables beyond 2^32 vertices; use a coarser grid or a larger epsilon");
+    nodes_.insert(nodes_.end(), b.nodes.begin(), b.nodes.end());
+    cdf16_.insert(cdf16_.end(), b.cdf16.begin(), b.cdf16.end());
+    cdf32_.insert(cdf32_.end(), b.cdf32.begin(), b.cdf32.end());
+    empty_[bin] = b.empty ? 1 : 0;
+    max_deviation_ = std::max(max_deviation_, b.deviation);
   }
-  words_.shrink_to_fit();
+  starts_.push_back(std::uint32_t(nodes_.size()));
+  // Bisection steps that bring the longest CDF down to 32 entries (n -> n - n / 2 per step).
+  std::uint32_t longest = 0;
+  for (std::size_t c = 0; c + 1 < starts_.size(); ++c) longest = std::max(longest, starts_[c + 1] - starts_[c]);
+  for (search_steps_ = 0; longest > 32; ++search_steps_) longest -= longest / 2;
+  nodes_.resize(nodes_.size() + kTrailPad, 0xffff);
+  if (narrow_)
+    cdf16_.resize(cdf16_.size() + kTrailPad, 0xffff);
+  else
+    cdf32_.resize(cdf32_.size() + kTrailPad, 2.0f);
+  nodes_.shrink_to_fit(), cdf16_.shrink_to_fit(), cdf32_.shrink_to_fit();
   reportInvalidEvaluations();
 }
 
-namespace {
-
-float vertexX(const std::uint32_t* w, std::size_t k) { return std::bit_cast<float>(w[2 * k]); }
-float vertexCdf(const std::uint32_t* w, std::size_t k) { return std::bit_cast<float>(w[2 * k + 1]); }
-CdfVertex vertexAt(const std::uint32_t* w, std::size_t k) { return {vertexX(w, k), vertexCdf(w, k)}; }
-// Entry g of a guide of 16-bit entries packed two per word, low half first.
-std::size_t guideEntry(const std::uint32_t* guide, std::size_t g) { return (guide[g >> 1] >> ((g & 1) * 16)) & 0xffffu; }
-// The density of segment k, as pdfVertexCdf computes it.
-float slope(const std::uint32_t* w, std::size_t k) {
-  return (vertexCdf(w, k + 1) - vertexCdf(w, k)) / (vertexX(w, k + 1) - vertexX(w, k));
+template <class Key>
+BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st) const {
+  // st in [0, 1)^2 (checked by the callers); the cells as rowOf would give them, with 32-bit
+  // conversions (a float -> size_t conversion is a branchy sequence on x86-64).
+  const int row = std::min(int(st.x * float(nu_)), nu_ - 1), col = std::min(int(st.y * float(nv_)), nv_ - 1);
+  const Key* q = keys<Key>();
+  const std::uint32_t* starts = starts_.data() + bin * (std::size_t(nu_) + 1);
+  const std::uint32_t ms = starts[0], ns = starts[1] - ms, mt = starts[1 + row], nt = starts[2 + row] - mt;
+  const unsigned ks = countLe(nodes_.data() + ms, ns, unsigned(row), search_steps_);
+  const unsigned kt = countLe(nodes_.data() + mt, nt, unsigned(col), search_steps_);
+  const Segment<Key> s = segmentAt(q + ms, nodes_.data() + ms, ks, ns, nu_);
+  const Segment<Key> t = segmentAt(q + mt, nodes_.data() + mt, kt, nt, nv_);
+  return pdfOf(s.dq, s.dx, t.dq, t.dx, pdf_scale_);
 }
 
-}  // namespace
-
-inline std::size_t DpCdfSampler::segmentByCdf(const CdfRef& c, float u) const {
-  const std::uint32_t* w = vertexWords(c);
-  const std::size_t cells = std::size_t(1) << c.guide_log2;
-  const std::uint32_t* guide = w - guideWords(cells);
-  return guidedSearch([w](std::size_t i) { return vertexCdf(w, i); }, c.last_segment,
-                      [guide](std::size_t g) { return guideEntry(guide, g); }, cells, u);
-}
-
-inline std::size_t DpCdfSampler::segmentByX(const CdfRef& c, float x, std::size_t hint) const {
-  // pdfVertexCdf's rule: the largest k <= last_segment with v[1..k].x <= x (x >= v[0].x).
-  const std::uint32_t* w = vertexWords(c);
-  if (hint <= c.last_segment && vertexX(w, hint) <= x && (hint == c.last_segment || x < vertexX(w, hint + 1)))
-    return hint;
-  const std::uint32_t* guide = w + 2 * (std::size_t(c.last_segment) + 2);
-  return guidedSearch([w](std::size_t i) { return vertexX(w, i); }, c.last_segment,
-                      [guide](std::size_t g) { return guideEntry(guide, g); }, std::size_t(1) << c.guide_log2, x);
-}
-
-inline float DpCdfSampler::pdfWithHints(const BinQuery& q, const glm::vec3& wi, std::size_t s_hint, std::size_t row_hint,
-                                 std::size_t t_hint) const {
+float DpCdfSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
   // The same steps as the generic BinnedSampler::pdfQuery + pdfInBin, without the virtual calls.
   if (!(wi.z > 0.0f)) return 0.0f;
   const glm::vec2 st = directionToSquare(q.toBinFrame(wi));
   if (!(st.x < 1.0f) || empty_[q.bin]) return 0.0f;
-  const std::size_t first = q.bin * (std::size_t(nu_) + 1);
-  const CdfRef& m = refs_[first];
-  const std::uint32_t* mw = vertexWords(m);
-  // Outside the first and last vertex the density is 0 (pdfVertexCdf); s and t are in [0, 1) and
-  // reduceCdf keeps the nodes 0 and 1, so this never triggers for the sampler's own CDFs.
-  if (!(st.x >= vertexX(mw, 0) && st.x <= vertexX(mw, m.last_segment + 1u))) return 0.0f;
-  const std::size_t ks = segmentByX(m, st.x, s_hint);
-  const std::size_t row = rowOf(st.x);
-  const CdfRef& c = refs_[first + 1 + row];
-  const std::uint32_t* cw = vertexWords(c);
-  if (!(st.y >= vertexX(cw, 0) && st.y <= vertexX(cw, c.last_segment + 1u))) return 0.0f;
-  const std::size_t kt = segmentByX(c, st.y, row == row_hint ? t_hint : kNoHint);
-  return slope(mw, ks) * slope(cw, kt) * kInv2Pi;
+  return narrow_ ? pdfImpl<std::uint16_t>(q.bin, st) : pdfImpl<float>(q.bin, st);
 }
 
-float DpCdfSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
-  return pdfWithHints(q, wi, kNoHint, kNoHint, kNoHint);
-}
-
-inline VertexCdfSample DpCdfSampler::sampleCdf(std::size_t index, float u) const {
-  const CdfRef& c = refs_[index];
-  const std::size_t k = segmentByCdf(c, u);
-  return invertVertexSegment(vertexAt(vertexWords(c), k), vertexAt(vertexWords(c), k + 1), k, u);
-}
-
-float DpCdfSampler::pdfCdf(std::size_t index, float x) const {
-  const CdfRef& c = refs_[index];
-  const std::uint32_t* w = vertexWords(c);
-  if (!(x >= vertexX(w, 0) && x <= vertexX(w, c.last_segment + 1u))) return 0.0f;
-  return slope(w, segmentByX(c, x, kNoHint));
+template <class Key>
+BTF_ALWAYS_INLINE std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sampleImpl(const BinQuery& q, glm::vec2 u) const {
+  const Key* keys_ = keys<Key>();
+  const std::uint16_t* nodes = nodes_.data();
+  const std::uint32_t* starts = starts_.data() + q.bin * (std::size_t(nu_) + 1);
+  // Keys compared with u scaled to them: for 16-bit keys, key <= u * 65535 iff key <= its floor.
+  const float us = u.x * kTop<Key>, ut = u.y * kTop<Key>;
+  auto searchKey = [](float uq) {
+    if constexpr (std::is_same_v<Key, std::uint16_t>)
+      return unsigned(int(uq));
+    else
+      return uq;
+  };
+  // Marginal: segment, position in grid units, row.
+  const std::uint32_t ms = starts[0], ns = starts[1] - ms;
+  const unsigned ks = countLe(keys_ + ms, ns, searchKey(us), search_steps_);
+  const Segment<Key> seg_s = segmentAt(keys_ + ms, nodes + ms, ks, ns, nu_);
+  const float gs = invert(seg_s, us);
+  const float s = gs / float(nu_);
+  const int row = std::min(int(s * float(nu_)), nu_ - 1);  // rowOf(s), as pdf() takes it
+  // The row's conditional.
+  const std::uint32_t mt = starts[1 + row], nt = starts[2 + row] - mt;
+  const unsigned kt = countLe(keys_ + mt, nt, searchKey(ut), search_steps_);
+  const Segment<Key> seg_t = segmentAt(keys_ + mt, nodes + mt, kt, nt, nv_);
+  const float gt = invert(seg_t, ut);
+  const float t = gt / float(nv_);
+  const glm::vec3 wi = glm::normalize(q.fromBinFrame(squareToDirection({s, t})));
+  // The pdf of wi as pdf() computes it: the shortcut when (s, t) is well inside its grid cell
+  // (then the round trip through wi lands in the same cell, row and segments), else pdf()'s path.
+  float p;
+  if (wellInside(gs, kCellMargin * float(nu_)) && wellInside(gt, kCellMargin * float(nv_)))
+    p = pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_);
+  else
+    p = DpCdfSampler::pdfQuery(q, wi);
+  if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
+  return DirectionSample{wi, p};
 }
 
 std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sampleQuery(const BinQuery& q, glm::vec2 u,
                                                                         int& tries) const {
   if (empty_[q.bin]) return std::nullopt;
   tries = 1;
-  const std::size_t first = q.bin * (std::size_t(nu_) + 1);
-  const VertexCdfSample s = sampleCdf(first, u.x);
-  const std::size_t row = rowOf(s.x);
-  const VertexCdfSample t = sampleCdf(first + 1 + row, u.y);
-  const glm::vec3 wi = glm::normalize(q.fromBinFrame(squareToDirection({s.x, t.x})));
-  const float p = pdfWithHints(q, wi, s.segment, row, t.segment);
-  if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
-  return DirectionSample{wi, p};
+  return narrow_ ? sampleImpl<std::uint16_t>(q, u) : sampleImpl<float>(q, u);
 }
 
-// The generic entry points (the fast path above does not use them; they define the same density).
-// The helpers above are "inline" (private, this file only) so that the query paths fuse them.
+// The generic entry points (the fast paths above do not use them; they define the same density).
 std::optional<glm::vec2> DpCdfSampler::sampleInBin(std::size_t bin, glm::vec2 u, int& tries) const {
   if (empty_[bin]) return std::nullopt;
   tries = 1;
-  const std::size_t first = bin * (std::size_t(nu_) + 1);
-  const float s = sampleCdf(first, u.x).x;
-  return glm::vec2{s, sampleCdf(first + 1 + rowOf(s), u.y).x};
+  const BinQuery q{bin, 1.0f, 0.0f};
+  const auto d = narrow_ ? sampleImpl<std::uint16_t>(q, u) : sampleImpl<float>(q, u);
+  if (!d) return std::nullopt;
+  return directionToSquare(d->wi);
 }
 
 float DpCdfSampler::pdfInBin(std::size_t bin, glm::vec2 st) const {
-  if (empty_[bin]) return 0.0f;
-  const std::size_t first = bin * (std::size_t(nu_) + 1);
-  return pdfCdf(first, st.x) * pdfCdf(first + 1 + rowOf(st.x), st.y);
+  if (empty_[bin] || !(st.x >= 0.0f && st.x < 1.0f && st.y >= 0.0f && st.y < 1.0f)) return 0.0f;
+  return (narrow_ ? pdfImpl<std::uint16_t>(bin, st) : pdfImpl<float>(bin, st)) * kTwoPi;
 }
 
 SamplerStats DpCdfSampler::stats() const {
   SamplerStats s;
   fillCommonStats(s);
-  s.bytes = words_.size() * sizeof(std::uint32_t) + refs_.size() * sizeof(CdfRef) + empty_.size();
+  s.bytes = (nodes_.size() + cdf16_.size()) * sizeof(std::uint16_t) + cdf32_.size() * sizeof(float) +
+            starts_.size() * sizeof(std::uint32_t) + empty_.size();
   s.elements = vertex_count_;
-  s.mean_elements_per_cdf = double(vertex_count_) / double(refs_.size());
+  s.mean_elements_per_cdf = double(vertex_count_) / double(starts_.size() - 1);
   s.empty_bins = std::size_t(std::count(empty_.begin(), empty_.end(), 1));
   return s;
 }

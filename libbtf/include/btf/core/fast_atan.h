@@ -2,7 +2,9 @@
 // call dominated table lookups and sampling, and no Debian library offers a vetted float version).
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace btf {
 
@@ -24,7 +26,9 @@ inline float fastAtan2Turns(float y, float x) {
   float r = a * p;
   if (ay > ax) r = 0.25f - r;
   if (x < 0.0f) r = 0.5f - r;
-  return y < 0.0f ? -r : r;
+  // The sign of y is random in a sampler's use: flip the sign bit without a branch (compilers
+  // emit a conditional jump for the ternary, mispredicted half the time). Same value as y < 0 ? -r : r.
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(r) ^ (std::uint32_t(y < 0.0f) << 31));
 }
 
 }  // namespace btf

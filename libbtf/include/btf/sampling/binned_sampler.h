@@ -34,11 +34,13 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -47,6 +49,7 @@
 #include <glm/glm.hpp>
 
 #include "btf/core/fast_atan.h"
+#include "btf/core/math.h"
 #include "btf/material/material.h"
 #include "btf/sampling/dp_cdf.h"
 
@@ -100,12 +103,13 @@ inline void cosSinTurns(float t, float& c, float& s) {
   const float a = 6.28318531f * (t - 0.25f * float(quarter)), a2 = a * a;
   const float sin_a = a * (1.0f + a2 * (-1.0f / 6 + a2 * (1.0f / 120 + a2 * (-1.0f / 5040 + a2 * (1.0f / 362880)))));
   const float cos_a = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 + a2 * (1.0f / 40320))));
-  switch (quarter & 3) {
-    case 0: c = cos_a, s = sin_a; break;
-    case 1: c = -sin_a, s = cos_a; break;
-    case 2: c = -cos_a, s = -sin_a; break;
-    default: c = sin_a, s = -cos_a; break;
-  }
+  // Quarter 0: (cos, sin); 1: (-sin, cos); 2: (-cos, -sin); 3: (sin, -cos). That is a swap for
+  // odd quarters and a negation of both for quarters 2 and 3, done on the bits: the quarter is
+  // random for sampled directions and a switch was a mispredicted jump.
+  const std::uint32_t swap = 0u - std::uint32_t(quarter & 1), negate = std::uint32_t(quarter & 2) << 30;
+  const std::uint32_t cb = std::bit_cast<std::uint32_t>(cos_a), sb = std::bit_cast<std::uint32_t>(sin_a);
+  c = std::bit_cast<float>(((cb & ~swap) | ((sb ^ 0x80000000u) & swap)) ^ negate);
+  s = std::bit_cast<float>(((sb & ~swap) | (cb & swap)) ^ negate);
 }
 
 
@@ -185,8 +189,13 @@ class BinnedSampler : public Material {
   }
   static glm::vec2 directionToSquare(const glm::vec3& w) {
     const float t = fastAtan2Turns(w.y, w.x);
-    // Wrap into [0,1); t + 1 can round to exactly 1 for tiny negative t.
-    return {w.z, t < 0.0f ? std::min(t + 1.0f, 0x1.fffffep-1f) : t};
+    // Wrap into [0,1); t + 1 can round to exactly 1 for tiny negative t. The sign of t is random
+    // for a sampler's directions: select by a mask (a ternary compiles to a mispredicted branch).
+    const std::uint32_t negative = 0u - std::uint32_t(t < 0.0f);
+    const float sum = t + 1.0f;  // for t < 0 in (0, 1]: exactly 1 becomes the float below it
+    const float wrapped = std::bit_cast<float>(std::bit_cast<std::uint32_t>(sum) - std::uint32_t(sum >= 1.0f));
+    return {w.z, std::bit_cast<float>((std::bit_cast<std::uint32_t>(wrapped) & negative) |
+                                      (std::bit_cast<std::uint32_t>(t) & ~negative))};
   }
 
  private:
@@ -195,13 +204,53 @@ class BinnedSampler : public Material {
   SamplerOptions options_;
   bool anisotropic_;
   int theta_o_bins_, phi_o_bins_;
-  std::vector<float> cos_theta_o_edges_;  // cos of the inner theta_o bin edges, decreasing
+  std::vector<float> cos_theta_o_edges_;  // cos of the inner theta_o bin edges, decreasing; 2 sentinels
   // Guide table over wo.z (cutpoint method, Chen & Asau 1974): entry g is the number of edges
   // >= (g + 1) / size, a lower bound of binOf's theta bin for every z in [g / size, (g + 1) / size),
   // so the lookup scans forward over the few edges left instead of bisecting all of them.
   std::vector<std::uint16_t> theta_guide_;
   mutable std::uint64_t evaluations_ = 0, invalid_evaluations_ = 0;  // build-time only (atomically)
 };
+
+// Inline (with query): on every sample and pdf, and a call from the library's own code would go
+// through its PLT.
+inline std::size_t BinnedSampler::binOf(const glm::vec3& wo) const {
+  // Nearest bin in theta_o = the bin whose edges enclose it; cos decreases with theta, so the bin
+  // is the number of inner edges e >= wo.z (no acos needed). The guide gives a lower bound (all
+  // edges before it are >= the top of wo.z's guide cell); the scan counts the rest exactly as a
+  // bisection would: two branch-free steps (the edges end with two -infinity sentinels; a guide
+  // cell rarely holds more than two edges), then a loop that rarely runs. 32-bit conversions:
+  // float -> size_t is a branchy two-conversion sequence on x86-64. NaN or z outside [0, 1] only
+  // costs a longer scan or the first cell.
+  const int last_cell = int(theta_guide_.size() - 1);
+  const float scaled = wo.z * float(last_cell);
+  const int g = scaled > 0.0f ? (scaled < float(last_cell) ? int(scaled) : last_cell) : 0;
+  const std::size_t edges = std::size_t(theta_o_bins_ - 1);
+  const float* e = cos_theta_o_edges_.data();
+  std::size_t theta_bin = theta_guide_[std::size_t(g)];
+  theta_bin += std::size_t(e[theta_bin] >= wo.z);
+  theta_bin += std::size_t(e[theta_bin] >= wo.z);
+  while (theta_bin < edges && e[theta_bin] >= wo.z) ++theta_bin;
+  theta_bin = std::min(theta_bin, edges);
+  if (!anisotropic_) return theta_bin;
+  const float t = sphericalPhi(wo) * (0.5f * std::numbers::inv_pi_v<float>) * float(phi_o_bins_);
+  const int phi_bin = std::min(int(t), phi_o_bins_ - 1);
+  return theta_bin * phi_o_bins_ + std::size_t(phi_bin);
+}
+
+inline BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
+  BinQuery q{binOf(wo), 1.0f, 0.0f};
+  if (!anisotropic_) {
+    // wo is a unit vector, so x^2 + y^2 cannot overflow: no need for hypot's care (and cost).
+    // Below ~1e-19 the square underflows to 0 and the identity is used, as at the pole itself.
+    const float r2 = wo.x * wo.x + wo.y * wo.y;
+    if (r2 > 0.0f) {
+      const float inv = 1.0f / std::sqrt(r2);
+      q.cos_phi = wo.x * inv, q.sin_phi = wo.y * inv;
+    }
+  }
+  return q;
+}
 
 // Builds the sampler of the given kind (throws btf::Error as the constructors do).
 std::unique_ptr<BinnedSampler> makeSampler(SamplerKind kind, std::shared_ptr<const Material> material,

@@ -2,27 +2,33 @@
 // the marginal CDF of each bin and the conditional CDF of each row keep only the vertices that the
 // chosen reduction needs to stay within options.epsilon of the full CDF. Sampling: a search of the
 // marginal's vertices (continuous s, inverting the linear segment), the row holding s chooses the
-// conditional, a search of its vertices gives t (both searches guided, as below; they find the
-// segment a bisection would). pdf(s, t) = marginal slope at s times the
-// conditional's slope at t, over 2 pi: exact for any epsilon (it is the density of the coarser
+// conditional, a search of its vertices gives t. pdf(s, t) = marginal slope at s times the
+// conditional's slope at t, over 2 pi: exact for any epsilon (it is the density of the stored
 // polylines, which are what sample() inverts).
 //
-// Memory: one flat array of 32-bit words holding, per CDF and contiguous, a guide table over u
-// (for sampling), the (x, cdf) float pairs of its vertices, and a guide table over x (for pdf);
-// plus an 8-byte reference per CDF. The guides (cdf1d.h, guidedSearch) hold 16-bit segment
-// indices, two per word, in guideCellsFor(segments) / 2 cells each; they replace the four
-// bisections of a sample + pdf by about one or two steps each. Each guide sits next to the end of
-// the vertex run it indexes, so a search mostly touches neighbouring cache lines (the tables of a
-// MERL-size material exceed the L2 cache). The guides and references cost about +35% of the bytes
-// at epsilon = 1e-3 on a MERL-size GGX table (counted in stats().bytes).
+// Memory. Kept vertices are grid nodes, so a vertex is stored as its node index (16 bits) and
+// its CDF value; the first (node 0, CDF 0) and last (node n, CDF 1) vertex of every CDF are
+// implicit. CDF values are 16-bit fixed point (value * 65535) when epsilon >= kNarrowEpsilon, else
+// floats. Quantizing moves each vertex by at most half a quantum (7.6e-6), so the stored polyline
+// stays within epsilon + quantum / 2 of the full CDF (segments with mass keep at least one quantum,
+// so the density stays > 0 wherever the tabulated one is; that may move a vertex by a little more
+// in degenerate CDFs). maxCdfDeviation() is measured on the stored polylines, whatever they are.
+// Per CDF there is one 32-bit index of its first vertex (the count is the next index minus it);
+// no guide tables: a search bisects (branch-free, a fixed number of steps per table) down to 32
+// entries, then compares those 32 at once (SSE2, part of x86-64) and counts the leading matches. About 4 bytes per kept interior
+// vertex plus 4 per CDF: <= 0.1 of the full float CDFs at epsilon = 1e-2 on a MERL-size table.
 //
-// Speed: sampleQuery remembers the segments and the row it drew and hands them to the pdf of the
-// final float direction as hints; a hint is used only after checking that the recomputed (s, t)
-// lies in that segment (the rule pdfVertexCdf applies), so the pdf is the one pdf() computes,
-// bit for bit, and the guided search runs only when rounding moved (s, t) across a vertex.
+// Cells and segments. The pdf of (s, t) takes the grid cell c = floor(s * nu) (the row) and the
+// marginal segment = the number of interior vertices at nodes <= c; the same for t in the row's
+// conditional. sample() draws inside a segment and returns pdf(wi, wo) of its final float wi:
+// when the drawn (s, t) lies at least kCellMargin (in units of the square) inside its grid cell,
+// the round trip (s, t) -> wi -> (s, t) (error < 1e-6) cannot leave the cell, so the pdf is
+// computed from the segments just drawn, by the same expression pdf() uses (bit for bit equal);
+// otherwise (a fraction ~ 2 kCellMargin (nu + nv) of the draws) it runs pdf()'s own path on wi.
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "btf/sampling/binned_sampler.h"
@@ -33,10 +39,19 @@ class DpCdfSampler final : public BinnedSampler {
  public:
   DpCdfSampler(std::shared_ptr<const Material> material, const SamplerOptions& options = {});
 
+  // From this epsilon on, CDF values are stored in 16 bits (the quantum then adds at most 1/64
+  // of epsilon to the deviation); below it as floats.
+  static constexpr float kNarrowEpsilon = 32.0f / 65535.0f;
+  // How far inside its grid cell (in units of s and t) a draw must be for the pdf shortcut.
+  static constexpr float kCellMargin = 1e-5f;
+
   SamplerKind kind() const override { return SamplerKind::DpCdf; }
   SamplerStats stats() const override;
-  // Largest deviation of any reduced CDF from its full CDF (<= epsilon up to float rounding).
+  // Largest deviation of any stored CDF from its full CDF, measured on the stored (quantized)
+  // polylines: <= epsilon + cdfQuantum() / 2 up to float rounding.
   double maxCdfDeviation() const { return max_deviation_; }
+  // Step of the stored CDF values: 1 / 65535 for 16-bit storage, 0 for floats.
+  double cdfQuantum() const { return narrow_ ? 1.0 / 65535.0 : 0.0; }
 
  protected:
   std::optional<DirectionSample> sampleQuery(const BinQuery& q, glm::vec2 u, int& tries) const final;
@@ -45,27 +60,29 @@ class DpCdfSampler final : public BinnedSampler {
   float pdfInBin(std::size_t bin, glm::vec2 st) const override;
 
  private:
-  struct CdfRef {
-    std::uint32_t first;         // word of vertex 0 in words_; the u guide ends there
-    std::uint16_t last_segment;  // vertices - 2
-    std::uint16_t guide_log2;    // cells of each guide = 1 << guide_log2
-  };
-  // No hint: the pdf searches.
-  static constexpr std::size_t kNoHint = ~std::size_t(0);
-  std::size_t rowOf(float s) const { return std::min(static_cast<std::size_t>(s * float(nu_)), std::size_t(nu_ - 1)); }
-  static std::size_t guideWords(std::size_t cells) { return (cells + 1) / 2; }
-  const std::uint32_t* vertexWords(const CdfRef& c) const { return words_.data() + c.first; }
-  std::size_t segmentByCdf(const CdfRef& c, float u) const;
-  std::size_t segmentByX(const CdfRef& c, float x, std::size_t hint) const;
-  float pdfWithHints(const BinQuery& q, const glm::vec3& wi, std::size_t s_hint, std::size_t row_hint,
-                     std::size_t t_hint) const;
-  VertexCdfSample sampleCdf(std::size_t index, float u) const;
-  float pdfCdf(std::size_t index, float x) const;
+  template <class Key>
+  std::optional<DirectionSample> sampleImpl(const BinQuery& q, glm::vec2 u) const;
+  template <class Key>
+  float pdfImpl(std::size_t bin, glm::vec2 st) const;
+  template <class Key>
+  const Key* keys() const {
+    if constexpr (std::is_same_v<Key, std::uint16_t>)
+      return cdf16_.data();
+    else
+      return cdf32_.data();
+  }
 
   int nu_, nv_;
-  std::vector<std::uint32_t> words_;  // all CDFs, bin-major: marginal then rows 0..nu-1
-  std::vector<CdfRef> refs_;          // one per CDF, same order
-  std::size_t vertex_count_ = 0;
+  bool narrow_;
+  int search_steps_ = 0;  // bisection steps of every search (countLe), from the longest CDF
+  float pdf_scale_;  // nu nv / (top^2 2 pi): pdf = (dq_s / dx_s) (dq_t / dx_t) pdf_scale_
+  // Interior vertices of all CDFs, bin-major (marginal, then rows 0..nu-1), one leading and 32
+  // trailing padding entries so that the searches may read a little outside a CDF.
+  std::vector<std::uint16_t> cdf16_;  // narrow: CDF value * 65535
+  std::vector<float> cdf32_;          // wide: CDF value
+  std::vector<std::uint16_t> nodes_;  // grid node index of each vertex (1..n-1)
+  std::vector<std::uint32_t> starts_;  // per CDF, its first vertex; one more at the end
+  std::size_t vertex_count_ = 0;       // including the implicit end points
   std::vector<unsigned char> empty_;
   double max_deviation_ = 0;
 };

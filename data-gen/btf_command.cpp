@@ -1,0 +1,94 @@
+#include "btf_command.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "btf/core/error.h"
+#include "btf/io/btf_images.h"
+#include "btf_patterns.h"
+
+namespace btf::datagen {
+namespace fs = std::filesystem;
+namespace {
+
+BtfImageFormat parseFormat(const std::string& name) {
+  if (name == "png") return BtfImageFormat::Png8;
+  if (name == "png16") return BtfImageFormat::Png16;
+  if (name == "exr") return BtfImageFormat::Exr;
+  throw Error("unknown image format '" + name + "' (choose png, png16 or exr)");
+}
+
+std::uintmax_t folderBytes(const fs::path& folder) {
+  std::uintmax_t bytes = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder))
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  return bytes;
+}
+
+}  // namespace
+
+CLI::App* addBtfCommand(CLI::App& app, BtfCommandOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "btf",
+      "Synthetic BTF: a procedural microgeometry observed from the 81 x 81 directions of image-based BTF\n"
+      "measurements (parallax, masking, self-shadowing), written as an image folder tvTTT_pvPPP_tlTTT_plPPP.png");
+  cmd->add_option("--pattern", o.pattern, "Sample: fabric, stones, paint or leather")
+      ->check(CLI::IsMember({"fabric", "stones", "paint", "leather"}))
+      ->capture_default_str();
+  cmd->add_option("--size", o.size, "Texels along each side (16 for tests, 256 for benchmarks)")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Seed of the pattern")->capture_default_str();
+  cmd->add_option("--format", o.format,
+                  "Image format: png (8-bit), png16 or exr (float, exact); PNG values are scaled by btf.json's value_scale.\n"
+                  "Glossy samples peak far above their body (paint's flakes ~180, stones ~25 vs ~0.1-1): prefer\n"
+                  "png16 or exr for them, or clip the peaks with --value-scale")
+      ->check(CLI::IsMember({"png", "png16", "exr"}))
+      ->capture_default_str();
+  cmd->add_option("--value-scale", o.value_scale,
+                  "PNG only: the value of the largest code; larger values saturate as in an 8-bit camera\n"
+                  "(default: the BTF's largest value, found by a first pass over the data)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("-o,--output", o.output, "Output folder (created; replaces an older BTF folder)")->required();
+  cmd->add_flag("--json", o.json, "Machine-readable summary");
+  return cmd;
+}
+
+void runBtfCommand(const BtfCommandOptions& o) {
+  const synthetic::BtfPattern pattern = synthetic::parseBtfPattern(o.pattern);
+  const BtfImageFormat format = parseFormat(o.format);
+  const fs::path output = o.output;
+  const fs::path parent = output.has_filename() ? output.parent_path() : output.parent_path().parent_path();
+  // Fail before the work, not after it.
+  if (o.value_scale > 0 && format == BtfImageFormat::Exr)
+    throw Error("--value-scale applies to PNG only (EXR stores the values themselves)");
+  if (!parent.empty() && !fs::is_directory(parent)) throw FileError(output, "folder " + parent.string() + " does not exist");
+
+  const auto start = std::chrono::steady_clock::now();
+  const std::unique_ptr<synthetic::SyntheticBtf> btf = synthetic::makeSyntheticBtf(pattern, o.size, o.size, o.seed);
+  BtfImageWriteOptions options;
+  options.format = format;
+  if (o.value_scale > 0) options.value_scale = o.value_scale;
+  writeBtfImageFolder(*btf, output, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const BtfImageFolder written = BtfImageFolder::open(output);
+  const std::uintmax_t bytes = folderBytes(output);
+
+  if (o.json) {
+    const nlohmann::json out{{"output", o.output},       {"pattern", o.pattern},    {"size", o.size},
+                             {"seed", o.seed},           {"format", o.format},      {"name", btf->name()},
+                             {"images", kBtfDirectionCount * kBtfDirectionCount},   {"bytes", bytes},
+                             {"value_scale", written.valueScale()},                 {"seconds", seconds}};
+    std::cout << out.dump(2) << "\n";
+    return;
+  }
+  std::printf("wrote %s: %s, %d x %d texels, 81 x 81 images (%s), %.1f MiB, value_scale %g, %.1f s\n", o.output.c_str(),
+              btf->name().c_str(), o.size, o.size, o.format.c_str(), double(bytes) / (1024.0 * 1024.0),
+              double(written.valueScale()), seconds);
+}
+
+}  // namespace btf::datagen

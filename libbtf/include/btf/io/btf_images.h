@@ -1,0 +1,100 @@
+// Image-folder BTFs (the layout of the Bonn UBO2003 data, ARCHITECTURE.md): one image per
+// (view, light) pair over the 81-direction set (btf_directions.h), named by its four angles in
+// whole degrees, e.g. `tv030_pv060_tl045_pl120.png`. Pixel (x, y) of every image is texel (x, y).
+//
+// Names: the tags tv, pv (view theta, phi) and tl, pl (light theta, phi), each followed by its angle
+// in degrees, in any order, in any case, separated by `_`, `-`, `.`, spaces or nothing; a leading
+// or trailing frame number is allowed (`00012 tl015 pl060 tv000 pv000.png`). Files without these
+// tags (previews, notes) are ignored; a name with the tags but an angle outside the set is an error.
+//
+// Values: float images (EXR) hold the apparent BRDF itself. Integer images (PNG 8/16-bit, also
+// TIFF/JPEG through OpenImageIO) hold value = code / max_code * value_scale, with value_scale from
+// the optional sidecar `btf.json` in the folder (`{"value_scale": s}`, absent = 1): our writer
+// sets it so that 8-bit PNGs can hold apparent-BRDF values above 1.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "btf/io/btf_data.h"
+
+namespace btf {
+
+enum class BtfImageFormat { Png8, Png16, Exr };
+
+// "png8", "png16", "exr" and the file extension (".png", ".exr") of a format.
+std::string btfImageFormatName(BtfImageFormat format);
+std::string btfImageExtension(BtfImageFormat format);
+
+// The (view, light) pair a file name stands for (see above), or nothing when the name carries no
+// angle tags. Throws btf::Error (naming the file name) for tags that are repeated, missing or not
+// a direction of the 81-direction set.
+struct BtfImagePair {
+  int view;
+  int light;
+};
+std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name);
+// The canonical name our writer uses, e.g. "tv030_pv060_tl045_pl120.png".
+std::string btfImageName(int view, int light, BtfImageFormat format);
+
+// The name of the sidecar with value_scale (and facts for people: size, format, source).
+inline constexpr const char* kBtfSidecarName = "btf.json";
+
+// A BTF read from an image folder, one view (81 images) at a time.
+class BtfImageFolder final : public BtfSource {
+ public:
+  // Scans the folder and checks the names up front: every one of the 81 x 81 pairs present exactly
+  // once (FileError naming the first missing (theta, phi) pair, or both files of a duplicate);
+  // reads btf.json if present and the size of the first image. Pixel data is read by loadView.
+  static BtfImageFolder open(const std::filesystem::path& folder);
+
+  int width() const override { return width_; }
+  int height() const override { return height_; }
+  std::string name() const override;
+  // Reads the view's 81 images (in parallel). FileError naming the file for an unreadable or
+  // corrupt image, one of another size (both sizes named), fewer than 3 channels, or a float image
+  // with NaN, infinite or negative values.
+  void loadView(int view, std::vector<Rgb>& out) const override;
+
+  const std::filesystem::path& folder() const { return folder_; }
+  const std::filesystem::path& imagePath(int view, int light) const;
+  float valueScale() const { return value_scale_; }
+
+ private:
+  BtfImageFolder() = default;
+  void readImageInto(int view, int light, std::vector<Rgb>& out) const;
+
+  std::filesystem::path folder_;
+  std::vector<std::filesystem::path> paths_;  // view * 81 + light
+  float value_scale_ = 1.0f;
+  int width_ = 0, height_ = 0;
+};
+
+struct BtfImageWriteOptions {
+  BtfImageFormat format = BtfImageFormat::Exr;
+  // For PNG: the value of the largest code. Without it the writer first reads the whole source
+  // once to find its largest value (a second pass over a generated source).
+  std::optional<float> value_scale;
+  // Replace an existing destination folder, but only one this writer made (it holds btf.json) or
+  // an empty one: never a folder of other files.
+  bool overwrite = true;
+};
+
+// Writes every (view, light) image of `source` into `folder` plus btf.json. The folder is built
+// as a hidden temporary sibling and renamed into place when complete, so a failure or an
+// interruption never leaves a half-written BTF under the destination name. Progress is reported
+// per image. PNG values above value_scale are clamped (none are when the scale is found by the
+// writer); negative and NaN values are rejected (btf::Error naming the entry).
+void writeBtfImageFolder(const BtfSource& source, const std::filesystem::path& folder,
+                         const BtfImageWriteOptions& options = {});
+inline void writeBtfImageFolder(const BtfSource& source, const std::filesystem::path& folder, BtfImageFormat format) {
+  BtfImageWriteOptions options;
+  options.format = format;
+  writeBtfImageFolder(source, folder, options);
+}
+
+}  // namespace btf

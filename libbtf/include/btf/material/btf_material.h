@@ -1,0 +1,63 @@
+// A BTF as a Material: eval, sample and pdf straight from any BtfLookup (the in-memory BtfData, a
+// VqBtf evaluated from its codebooks, a PCA form), so nothing is decompressed as a whole. A BRDF
+// is a one-texel BTF.
+//
+// eval interpolates between the 81 measured directions within their ring structure, for wi and wo
+// alike: linear in theta between the two enclosing rings (constant beyond the last ring, 75
+// degrees), linear in phi between the two enclosing azimuths of each ring (ring 0 has one);
+// so a direction weighs at most 4 measured directions and a pair at most 16. Over the texture,
+// bilinear between the 4 nearest texel centres (uv in [0,1)^2 wraps: texel x covers
+// [x, x + 1) / width), or the nearest texel. At measured directions and texel centres eval returns
+// the data.
+//
+// sample: twofold binary search on the light slice of the texel nearest uv and the measured view
+// nearest wo (theta rounded to a ring, phi to an azimuth of that ring). The sphere of lights is cut
+// into cells, one per measured light: ring bands theta in [15 r - 7.5, 15 r + 7.5] degrees (ring 0
+// a cap up to 7.5, the last ring down to the horizon), each band cut into equal azimuth cells
+// centred on the measured azimuths. With w = luminance x cos(theta_ring) x cell solid angle, a ring
+// is chosen from its marginal (sum of w over the ring), then the azimuth from the ring's 1D CDF
+// built on the fly (sampling/cdf1d.h), then a uniform point (in solid angle) in the cell. pdf is
+// that piecewise-constant density, exactly what sample draws. On a VqBtf the rings come straight
+// from the codebook (VqBtf::lightRings: precomputed prefix sums per level-1 entry), so sampling
+// decodes nothing.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "btf/io/btf_data.h"
+#include "btf/material/material.h"
+
+namespace btf {
+
+class VqBtf;
+
+enum class BtfTexelFilter { Bilinear, Nearest };
+
+class BtfMaterial final : public Material {
+ public:
+  // Throws btf::Error for a null BTF.
+  explicit BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter = BtfTexelFilter::Bilinear,
+                       std::string name = "btf");
+
+  Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
+  float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  std::string name() const override { return name_; }
+  bool isAnisotropic() const override { return true; }
+
+  const BtfLookup& btf() const { return *btf_; }
+
+ private:
+  struct LightTables;
+  const LightTables& lightTables(const glm::vec3& wo, glm::vec2 uv) const;
+
+  std::shared_ptr<const BtfLookup> btf_;
+  const VqBtf* vq_;  // btf_ as a VqBtf, for the sampling fast path; else null
+  BtfTexelFilter filter_;
+  std::string name_;
+  int width_, height_;
+  std::uint64_t id_;  // for the per-thread cache of the last light slice's tables
+};
+
+}  // namespace btf

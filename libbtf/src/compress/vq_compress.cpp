@@ -1,0 +1,547 @@
+// compressVq: the multi-level VQ compressor (compress/vq_btf.h states the tolerances and bounds).
+//
+// Order of work. Views are compressed one at a time (the source streams by view). Inside a view,
+// level 1 runs ring by ring over all texels, then level 2 over all texels' light slices; level 3
+// runs at the end over the texels (their 81 level-2 codes are kept, ~6 bytes each).
+//
+// Determinism with parallel search. Each batch (one ring of one view, the slices of one view, 4096
+// texels at level 3) is first searched in parallel against the codebook as it stood before the
+// batch (a frozen snapshot: searches are const), then walked sequentially in texel order: a vector
+// without a reusable snapshot entry is searched in a small codebook of the entries the batch has
+// added so far and, failing that, becomes a new entry. Scales and errors are then computed in
+// parallel. Every decision depends only on the data and the batch order, never on the threads.
+//
+// Reuse rules (least-squares error <= the tolerance of vq_btf.h at each level, Codebook's radius
+// search with the radius of that vector's relative tolerance):
+// - level 1: exact by the chord radius on unit directions (codebook.h);
+// - level 2: the key is the level-1 reconstruction of the slice, normalized; the first of the 8
+//   nearest entries within the radius whose chromaticities pass (vq_btf.h) is reused;
+// - level 3: the key is the texel's 81 view scales (normalized). Since |a e - b e'| >= |a - b| for
+//   unit e, e', an entry whose full reconstruction is within epsilon has a key within about the
+//   same radius; candidates (8 nearest within 1.5x the radius) are verified on the full
+//   81 x 81 reconstruction through the level-2 entries' dot products.
+// Rings without light (all zero) skip the chromaticity check: their colour is never seen.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+
+#include "btf/compress/codebook.h"
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
+#include "vq_impl.h"
+
+namespace btf {
+
+std::uint64_t vqCompressedBytes(const VqBtf::Impl& impl);  // vq_io.cpp
+
+namespace {
+
+constexpr std::uint32_t kNoChroma = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t kCandidates = 8;
+constexpr std::size_t kLevel3Batch = 4096;
+
+template <class F>
+void parallelFor(std::size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+
+float norm(const float* v, int n) {
+  double s = 0;
+  for (int k = 0; k < n; ++k) s += double(v[k]) * v[k];
+  return float(std::sqrt(s));
+}
+double dot(const float* a, const float* b, int n) {
+  double s = 0;
+  for (int k = 0; k < n; ++k) s += double(a[k]) * b[k];
+  return s;
+}
+
+// RMS of norms, summed in index order (deterministic).
+template <class F>
+double rmsOf(std::size_t n, F&& norm_of) {
+  double s = 0;
+  for (std::size_t i = 0; i < n; ++i) s += double(norm_of(i)) * norm_of(i);
+  return n ? std::sqrt(s / double(n)) : 0.0;
+}
+
+class Compressor {
+ public:
+  Compressor(const BtfSource& source, const VqOptions& options, VqBtf::Impl& out)
+      : source_(source), options_(options), out_(out), texels_(source.texelCount()),
+        radius_(Codebook::chordRadius(options.epsilon)) {
+    for (int r = 0; r < kBtfRingCount; ++r) l1_.emplace_back(btfRingSize(r));
+    // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
+    // uniform light slice (level 2) and the uniform texel (level 3).
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      const float c = 1.0f / std::sqrt(float(btfRingSize(r)));
+      std::vector<float> entry(std::size_t(btfRingSize(r)), decodeVqEntryValue(encodeVqEntryValue(c)));
+      l1_[std::size_t(r)].add(entry);
+      out_.l1[std::size_t(r)].assign(std::size_t(btfRingSize(r)), encodeVqEntryValue(c));
+    }
+    chromaIndex(gridOf(1.0f), gridOf(1.0f));
+    if (options.levels >= 2) {
+      std::vector<std::uint32_t> e1(kBtfRingCount, 0), ch(kBtfRingCount, 0);
+      std::vector<std::uint16_t> sc(kBtfRingCount);
+      for (int r = 0; r < kBtfRingCount; ++r) sc[std::size_t(r)] = encodeVqScale(std::sqrt(float(btfRingSize(r))) / 9.0f);
+      l2_.emplace(kBtfDirectionCount);
+      addLevel2Entry(e1.data(), sc.data(), ch.data(), nullptr);
+    }
+    if (options.levels == 3) {
+      l3_.emplace(kBtfDirectionCount);
+      std::vector<std::uint32_t> e(kBtfDirectionCount, 0);
+      std::vector<std::uint16_t> sc(kBtfDirectionCount, encodeVqScale(1.0f / 9.0f));
+      addLevel3Entry(e.data(), sc.data(), nullptr);
+    }
+  }
+
+  void run() {
+    const std::size_t T = texels_;
+    if (options_.levels == 1) {
+      out_.top_index.resize(T * kBtfDirectionCount * kBtfRingCount);
+      out_.top_scale.resize(out_.top_index.size());
+      out_.top_chroma.resize(out_.top_index.size());
+    } else if (options_.levels == 2) {
+      out_.top_index.resize(T * kBtfDirectionCount);
+      out_.top_scale.resize(T * kBtfDirectionCount);
+    } else {
+      view_index_.resize(T * kBtfDirectionCount);
+      view_scale_.resize(T * kBtfDirectionCount);
+      view_chroma_.resize(T * kBtfDirectionCount * kBtfRingCount);
+    }
+    Progress progress("vq compress " + source_.name(), kBtfDirectionCount + (options_.levels == 3 ? 1 : 0));
+    std::vector<Rgb> buffer;
+    for (int v = 0; v < kBtfDirectionCount; ++v) {
+      source_.loadView(v, buffer);
+      if (buffer.size() != T * kBtfDirectionCount)
+        throw Error(source_.name() + ": view " + std::to_string(v) + " has the wrong number of values");
+      checkValues(buffer, v);
+      level1(buffer, v);
+      if (options_.levels >= 2) level2(v);
+      progress.advance();
+    }
+    if (options_.levels == 3) {
+      level3();
+      progress.advance();
+    }
+  }
+
+ private:
+  // ---- input checks and colour -------------------------------------------------------------
+  void checkValues(const std::vector<Rgb>& buffer, int v) const {
+    std::size_t first_bad = buffer.size();
+    for (std::size_t i = 0; i < buffer.size(); ++i) {
+      const Rgb& c = buffer[i];
+      if (!c.isFinite() || c.minComponent() < 0.0f) {
+        first_bad = i;
+        break;
+      }
+    }
+    if (first_bad == buffer.size()) return;
+    const std::size_t light = first_bad / texels_, t = first_bad % texels_;
+    throw Error(source_.name() + ": view " + std::to_string(v) + ", light " + std::to_string(light) + ", texel (" +
+                std::to_string(t % std::size_t(source_.width())) + ", " + std::to_string(t / std::size_t(source_.width())) +
+                ") holds a negative, infinite or NaN value");
+  }
+  std::int32_t gridOf(float c) const { return std::int32_t(std::lround(double(c) / options_.chroma_epsilon)); }
+  std::uint32_t chromaIndex(std::int32_t i, std::int32_t j) {
+    const std::int64_t key = (std::int64_t(i) << 32) ^ std::int64_t(std::uint32_t(j));
+    auto [it, inserted] = chroma_map_.try_emplace(key, std::uint32_t(out_.chromaCount()));
+    if (inserted) {
+      out_.chroma_grid.push_back(i);
+      out_.chroma_grid.push_back(j);
+    }
+    return it->second;
+  }
+  bool chromaClose(std::uint32_t a, std::uint32_t own) const {
+    if (own == kNoChroma) return true;
+    return std::abs(out_.chroma_grid[2 * a] - out_.chroma_grid[2 * own]) <= 1 &&
+           std::abs(out_.chroma_grid[2 * a + 1] - out_.chroma_grid[2 * own + 1]) <= 1;
+  }
+
+  // Relative tolerance for a vector of norm `len` in a batch of RMS norm `rms` (vq_btf.h).
+  float tolerance(double len, double rms) const {
+    const double floor = double(options_.energy_floor) * rms;
+    return float(std::min(1.0, double(options_.epsilon) * (len >= floor ? 1.0 : floor / len)));
+  }
+  float radiusFor(double len, double rms) const { return Codebook::chordRadius(tolerance(len, rms)); }
+
+  // ---- level 1 -------------------------------------------------------------------------------
+  void level1(const std::vector<Rgb>& buffer, int v) {
+    const std::size_t T = texels_;
+    // Luminance functions (unit directions and norms) and chromaticity grid points, in parallel.
+    units_.resize(T * kBtfDirectionCount);
+    norms_.resize(T * kBtfRingCount);
+    grid_.resize(T * kBtfRingCount * 2);
+    parallelFor(T, [&](std::size_t t) {
+      for (int r = 0; r < kBtfRingCount; ++r) {
+        const int n = btfRingSize(r), start = btfRingStart(r);
+        float* f = &units_[t * kBtfDirectionCount + std::size_t(start)];
+        double sr = 0, sb = 0, sy = 0;
+        for (int a = 0; a < n; ++a) {
+          const Rgb& c = buffer[std::size_t(start + a) * T + t];
+          f[a] = c.luminance();
+          sr += c.r;
+          sb += c.b;
+          sy += f[a];
+        }
+        const float len = norm(f, n);
+        norms_[t * kBtfRingCount + std::size_t(r)] = len;
+        for (int a = 0; a < n; ++a) f[a] = len > 0 ? f[a] / len : 0.0f;
+        const bool lit = sy > 0;
+        grid_[2 * (t * kBtfRingCount + std::size_t(r))] = gridOf(lit ? float(sr / sy) : 1.0f);
+        grid_[2 * (t * kBtfRingCount + std::size_t(r)) + 1] = gridOf(lit ? float(sb / sy) : 1.0f);
+      }
+    });
+    // Chromaticity indices in texel order (first occurrence numbers the codebook).
+    chroma_.resize(T * kBtfRingCount);
+    for (std::size_t k = 0; k < T * kBtfRingCount; ++k) chroma_[k] = chromaIndex(grid_[2 * k], grid_[2 * k + 1]);
+
+    entries_.assign(T * kBtfRingCount, 0);
+    scales_.assign(T * kBtfRingCount, 0);
+    scales_[0] = 0;
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      if (r == 0) {
+        for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount]);
+        continue;
+      }
+      const int n = btfRingSize(r), start = btfRingStart(r);
+      Codebook& book = l1_[std::size_t(r)];
+      auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * kBtfDirectionCount + std::size_t(start)], std::size_t(n)); };
+      auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
+      const double rms = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
+      auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
+      std::vector<std::int64_t> match(T, -1);
+      parallelFor(T, [&](std::size_t t) {
+        if (!lit(t)) {
+          match[t] = 0;
+          return;
+        }
+        thread_local std::vector<Codebook::Match> found;
+        book.search(unit(t), radius(t), 1, found);
+        if (!found.empty()) match[t] = found[0].index;
+      });
+      Codebook fresh(n);
+      std::vector<std::uint32_t> fresh_global;
+      std::vector<Codebook::Match> found;
+      std::vector<float> entry(static_cast<std::size_t>(n));
+      for (std::size_t t = 0; t < T; ++t) {
+        if (match[t] >= 0) continue;
+        fresh.search(unit(t), radius(t), 1, found);
+        if (!found.empty()) {
+          match[t] = fresh_global[found[0].index];
+          continue;
+        }
+        const auto u = unit(t);
+        for (int a = 0; a < n; ++a) {
+          const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)]);
+          out_.l1[std::size_t(r)].push_back(q);
+          entry[std::size_t(a)] = decodeVqEntryValue(q);
+        }
+        match[t] = book.add(entry);
+        fresh.add(entry);
+        fresh_global.push_back(std::uint32_t(match[t]));
+      }
+      parallelFor(T, [&](std::size_t t) {
+        const std::size_t k = t * kBtfRingCount + std::size_t(r);
+        entries_[k] = std::uint32_t(match[t]);
+        if (!lit(t)) return;
+        const float* e = book.entry(std::size_t(match[t]));
+        const double ee = dot(e, e, n);
+        const double fe = norms_[k] * dot(unit(t).data(), e, n);
+        scales_[k] = ee > 0 ? encodeVqScale(float(fe / ee)) : 0;
+      });
+    }
+    if (options_.levels == 1) {
+      const std::size_t base = std::size_t(v) * kBtfRingCount;
+      parallelFor(T, [&](std::size_t t) {
+        for (int r = 0; r < kBtfRingCount; ++r) {
+          const std::size_t k = t * kBtfRingCount + std::size_t(r);
+          const std::size_t o = t * kBtfDirectionCount * kBtfRingCount + base + std::size_t(r);
+          out_.top_index[o] = entries_[k];
+          out_.top_scale[o] = scales_[k];
+          out_.top_chroma[o] = chroma_[k];
+        }
+      });
+    }
+  }
+
+  // ---- level 2 -------------------------------------------------------------------------------
+  // Reconstruction of a light slice from level-1 codes (81 values).
+  void reconstructSlice(const std::uint32_t* e1, const std::uint16_t* sc, float* out, const float* rel = nullptr) const {
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      const int n = btfRingSize(r), start = btfRingStart(r);
+      const float s = rel ? rel[r] : decodeVqScale(sc[r]);
+      const float* e = l1_[std::size_t(r)].entry(e1[r]);
+      for (int a = 0; a < n; ++a) out[start + a] = s * e[a];
+    }
+  }
+  std::uint32_t addLevel2Entry(const std::uint32_t* e1, const std::uint16_t* sc, const std::uint32_t* ch, Codebook* fresh) {
+    float recon[kBtfDirectionCount];
+    reconstructSlice(e1, sc, recon);
+    out_.l2_index.insert(out_.l2_index.end(), e1, e1 + kBtfRingCount);
+    out_.l2_scale.insert(out_.l2_scale.end(), sc, sc + kBtfRingCount);
+    out_.l2_chroma.insert(out_.l2_chroma.end(), ch, ch + kBtfRingCount);
+    l2_norm2_.push_back(float(dot(recon, recon, kBtfDirectionCount)));
+    if (fresh) fresh->add(recon);
+    return l2_->add(recon);
+  }
+  bool level2ChromaPasses(std::uint32_t entry, std::size_t t) const {
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      const std::size_t k = t * kBtfRingCount + std::size_t(r);
+      if (norms_[k] > 0 && !chromaClose(out_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)], chroma_[k]))
+        return false;
+    }
+    return true;
+  }
+
+  void level2(int v) {
+    const std::size_t T = texels_;
+    slices_.resize(T * kBtfDirectionCount);
+    slice_norm_.resize(T);
+    parallelFor(T, [&](std::size_t t) {
+      float* y = &slices_[t * kBtfDirectionCount];
+      reconstructSlice(&entries_[t * kBtfRingCount], &scales_[t * kBtfRingCount], y);
+      const float len = norm(y, kBtfDirectionCount);
+      slice_norm_[t] = len;
+      for (int l = 0; l < kBtfDirectionCount; ++l) y[l] = len > 0 ? y[l] / len : 0.0f;
+    });
+    auto unit = [&](std::size_t t) { return std::span<const float>(&slices_[t * kBtfDirectionCount], kBtfDirectionCount); };
+    const double rms = rmsOf(T, [&](std::size_t t) { return slice_norm_[t]; });
+    auto radius = [&](std::size_t t) { return radiusFor(slice_norm_[t], rms); };
+    std::vector<std::int64_t> match(T, -1);
+    parallelFor(T, [&](std::size_t t) {
+      if (!(slice_norm_[t] > 0)) {
+        match[t] = 0;
+        return;
+      }
+      thread_local std::vector<Codebook::Match> found;
+      l2_->search(unit(t), radius(t), kCandidates, found);
+      for (const auto& m : found)
+        if (level2ChromaPasses(m.index, t)) {
+          match[t] = m.index;
+          break;
+        }
+    });
+    Codebook fresh(kBtfDirectionCount);
+    std::vector<std::uint32_t> fresh_global;
+    std::vector<Codebook::Match> found;
+    for (std::size_t t = 0; t < T; ++t) {
+      if (match[t] >= 0) continue;
+      fresh.search(unit(t), radius(t), kCandidates, found);
+      for (const auto& m : found)
+        if (level2ChromaPasses(fresh_global[m.index], t)) {
+          match[t] = fresh_global[m.index];
+          break;
+        }
+      if (match[t] >= 0) continue;
+      std::uint16_t rel[kBtfRingCount];
+      for (int r = 0; r < kBtfRingCount; ++r)
+        rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t]);
+      match[t] = addLevel2Entry(&entries_[t * kBtfRingCount], rel, &chroma_[t * kBtfRingCount], &fresh);
+      fresh_global.push_back(std::uint32_t(match[t]));
+    }
+    parallelFor(T, [&](std::size_t t) {
+      const std::uint32_t e = std::uint32_t(match[t]);
+      std::uint16_t code = 0;
+      if (slice_norm_[t] > 0) {
+        const float* recon = l2_->entry(e);
+        const double ls = slice_norm_[t] * dot(unit(t).data(), recon, kBtfDirectionCount) / l2_norm2_[e];
+        code = encodeVqScale(float(ls));
+      }
+      const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+      if (options_.levels == 2) {
+        out_.top_index[k] = e;
+        out_.top_scale[k] = code;
+      } else {
+        view_index_[k] = e;
+        view_scale_[k] = code;
+        for (int r = 0; r < kBtfRingCount; ++r)
+          view_chroma_[k * kBtfRingCount + std::size_t(r)] =
+              norms_[t * kBtfRingCount + std::size_t(r)] > 0 ? chroma_[t * kBtfRingCount + std::size_t(r)] : kNoChroma;
+      }
+    });
+  }
+
+  // ---- level 3 -------------------------------------------------------------------------------
+  std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc, Codebook* fresh) {
+    float key[kBtfDirectionCount];
+    double y2 = 0;
+    for (int v = 0; v < kBtfDirectionCount; ++v) {
+      key[v] = decodeVqScale(sc[v]);
+      y2 += double(key[v]) * key[v] * l2_norm2_[e2[v]];
+    }
+    out_.l3_index.insert(out_.l3_index.end(), e2, e2 + kBtfDirectionCount);
+    out_.l3_scale.insert(out_.l3_scale.end(), sc, sc + kBtfDirectionCount);
+    l3_norm2_.push_back(float(y2));
+    if (fresh) fresh->add(key);
+    return l3_->add(key);
+  }
+  // x . y and |y|^2 of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
+  // (unscaled); nothing when the chromaticities do not pass.
+  std::optional<double> level3Dot(std::size_t t, std::uint32_t entry) const {
+    double xy = 0;
+    const float* q = l3_->entry(entry);
+    for (int v = 0; v < kBtfDirectionCount; ++v) {
+      const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+      const float s = decodeVqScale(view_scale_[k]);
+      const std::uint32_t a = view_index_[k], b = out_.l3_index[std::size_t(entry) * kBtfDirectionCount + std::size_t(v)];
+      if (s > 0)
+        for (int r = 0; r < kBtfRingCount; ++r)
+          if (!chromaClose(out_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)], view_chroma_[k * kBtfRingCount + std::size_t(r)]))
+            return std::nullopt;
+      if (s == 0 || q[v] == 0) continue;
+      const double ab = a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
+      xy += double(s) * q[v] * ab;
+    }
+    return xy;
+  }
+  bool level3Passes(std::size_t t, std::uint32_t entry) const {
+    const auto xy = level3Dot(t, entry);
+    if (!xy) return false;
+    const double x2 = texel_norm2_[t], y2 = l3_norm2_[entry];
+    if (!(y2 > 0) || *xy <= 0) return false;
+    const double err2 = 1.0 - (*xy * *xy) / (x2 * y2);
+    const double tol = tolerance(std::sqrt(x2), texel_rms_);
+    return err2 <= tol * tol;
+  }
+
+  void level3() {
+    const std::size_t T = texels_;
+    out_.top_index.assign(T, 0);
+    out_.top_scale.assign(T, 0);
+    texel_norm2_.resize(T);
+    std::vector<float> keys(T * kBtfDirectionCount);
+    parallelFor(T, [&](std::size_t t) {
+      double x2 = 0, s2 = 0;
+      for (int v = 0; v < kBtfDirectionCount; ++v) {
+        const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+        const double s = decodeVqScale(view_scale_[k]);
+        x2 += s * s * l2_norm2_[view_index_[k]];
+        s2 += s * s;
+      }
+      texel_norm2_[t] = x2;
+      const double inv = s2 > 0 ? 1.0 / std::sqrt(s2) : 0.0;
+      for (int v = 0; v < kBtfDirectionCount; ++v)
+        keys[t * kBtfDirectionCount + std::size_t(v)] = float(decodeVqScale(view_scale_[t * kBtfDirectionCount + std::size_t(v)]) * inv);
+    });
+    auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * kBtfDirectionCount], kBtfDirectionCount); };
+    texel_rms_ = rmsOf(T, [&](std::size_t t) { return std::sqrt(texel_norm2_[t]); });
+    auto radius = [&](std::size_t t) { return std::min(1.5f * radiusFor(std::sqrt(texel_norm2_[t]), texel_rms_), 1.415f); };
+    std::vector<std::int64_t> match(T, -1);
+    for (std::size_t begin = 0; begin < T; begin += kLevel3Batch) {
+      const std::size_t end = std::min(T, begin + kLevel3Batch);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+        thread_local std::vector<Codebook::Match> found;
+        for (std::size_t t = range.begin(); t != range.end(); ++t) {
+          if (!(texel_norm2_[t] > 0)) {
+            match[t] = 0;
+            continue;
+          }
+          l3_->search(key(t), radius(t), kCandidates, found);
+          for (const auto& m : found)
+            if (level3Passes(t, m.index)) {
+              match[t] = m.index;
+              break;
+            }
+        }
+      });
+      Codebook fresh(kBtfDirectionCount);
+      std::vector<std::uint32_t> fresh_global;
+      std::vector<Codebook::Match> found;
+      for (std::size_t t = begin; t < end; ++t) {
+        if (match[t] >= 0) continue;
+        fresh.search(key(t), radius(t), kCandidates, found);
+        for (const auto& m : found)
+          if (level3Passes(t, fresh_global[m.index])) {
+            match[t] = fresh_global[m.index];
+            break;
+          }
+        if (match[t] >= 0) continue;
+        std::uint16_t rel[kBtfDirectionCount];
+        for (int v = 0; v < kBtfDirectionCount; ++v) rel[v] = encodeVqScale(key(t)[std::size_t(v)]);
+        match[t] = addLevel3Entry(&view_index_[t * kBtfDirectionCount], rel, &fresh);
+        fresh_global.push_back(std::uint32_t(match[t]));
+      }
+    }
+    parallelFor(T, [&](std::size_t t) {
+      const std::uint32_t e = std::uint32_t(match[t]);
+      out_.top_index[t] = e;
+      if (!(texel_norm2_[t] > 0)) return;
+      const auto xy = level3Dot(t, e);
+      const double y2 = l3_norm2_[e];
+      out_.top_scale[t] = xy && y2 > 0 ? encodeVqScale(float(*xy / y2)) : 0;
+    });
+  }
+
+  const BtfSource& source_;
+  const VqOptions& options_;
+  VqBtf::Impl& out_;
+  std::size_t texels_;
+  float radius_;
+  std::vector<Codebook> l1_;
+  std::optional<Codebook> l2_, l3_;
+  std::vector<float> l2_norm2_, l3_norm2_;
+  std::unordered_map<std::int64_t, std::uint32_t> chroma_map_;
+  // Per view (level 1 -> level 2).
+  std::vector<float> units_, norms_, slices_, slice_norm_;
+  std::vector<std::int32_t> grid_;
+  std::vector<std::uint32_t> chroma_, entries_;
+  std::vector<std::uint16_t> scales_;
+  // Per (texel, view) for level 3.
+  std::vector<std::uint32_t> view_index_, view_chroma_;
+  std::vector<std::uint16_t> view_scale_;
+  std::vector<double> texel_norm2_;
+  double texel_rms_ = 0;
+};
+
+}  // namespace
+
+VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
+  if (!(options.epsilon >= 0.0f) || !(options.epsilon < 1.0f))
+    throw Error("VQ tolerance epsilon = " + std::to_string(options.epsilon) + " is invalid: must be in [0, 1)");
+  if (!(options.chroma_epsilon > 0.0f) || !(options.chroma_epsilon <= 1.0f))
+    throw Error("VQ chroma_epsilon = " + std::to_string(options.chroma_epsilon) + " is invalid: must be in (0, 1]");
+  if (options.levels < 1 || options.levels > 3)
+    throw Error("VQ levels = " + std::to_string(options.levels) + " is invalid: must be 1, 2 or 3");
+  if (!(options.energy_floor >= 0.0f) || !std::isfinite(options.energy_floor))
+    throw Error("VQ energy_floor = " + std::to_string(options.energy_floor) + " is invalid: must be finite and >= 0");
+  if (options.threads < 0) throw Error("VQ threads = " + std::to_string(options.threads) + " is invalid: must be >= 0");
+  const auto start = std::chrono::steady_clock::now();
+  auto impl = std::make_shared<VqBtf::Impl>();
+  impl->width = source.width();
+  impl->height = source.height();
+  impl->name = source.name() + " (vq)";
+  impl->options = options;
+  auto work = [&] { Compressor(source, options, *impl).run(); };
+  if (options.threads > 0) {
+    tbb::task_arena arena(options.threads);
+    arena.execute(work);
+  } else {
+    work();
+  }
+  impl->prepare("compressVq");
+  VqStats& stats = impl->stats;
+  stats.codebook_entries.clear();
+  std::size_t l1 = 0;
+  for (int r = 1; r < kBtfRingCount; ++r) l1 += impl->l1Count(r);
+  stats.codebook_entries.push_back(l1);
+  if (options.levels >= 2) stats.codebook_entries.push_back(impl->l2Count());
+  if (options.levels >= 3) stats.codebook_entries.push_back(impl->l3Count());
+  stats.compressed_bytes = vqCompressedBytes(*impl);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double raw = double(source.entryCount()) * 3.0;
+  stats.ratio_u8 = raw / double(stats.compressed_bytes);
+  stats.ratio_f32 = 4.0 * stats.ratio_u8;
+  return VqBtf(impl);
+}
+
+}  // namespace btf

@@ -1,0 +1,185 @@
+// Decoding a VqBtf: single entries (value), whole views (loadView) and the light rings samplers use.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "btf/core/error.h"
+#include "btf/sampling/cdf1d.h"
+#include "vq_impl.h"
+
+namespace btf {
+
+namespace {
+struct LightTable {
+  std::array<std::uint8_t, kBtfDirectionCount> ring{}, azimuth{};
+  constexpr LightTable() {
+    for (int r = 0; r < kBtfRingCount; ++r)
+      for (int a = 0; a < btfRingSize(r); ++a) {
+        ring[std::size_t(btfRingStart(r) + a)] = std::uint8_t(r);
+        azimuth[std::size_t(btfRingStart(r) + a)] = std::uint8_t(a);
+      }
+  }
+};
+constexpr LightTable kLights;
+}  // namespace
+
+namespace {
+template <class T>
+void checkIndices(const std::vector<T>& indices, std::size_t bound, const std::string& what, const std::string& stream) {
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    if (std::size_t(indices[i]) >= bound)
+      throw Error(what + ": " + stream + " index " + std::to_string(indices[i]) + " at position " + std::to_string(i) +
+                  " is outside its codebook of " + std::to_string(bound) + " entries");
+}
+void checkSize(std::size_t size, std::size_t expected, const std::string& what, const std::string& stream) {
+  if (size != expected)
+    throw Error(what + ": " + stream + " holds " + std::to_string(size) + " values, expected " + std::to_string(expected));
+}
+}  // namespace
+
+void VqBtf::Impl::prepare(const std::string& what) {
+  if (width < 1 || height < 1) throw Error(what + ": invalid texel size");
+  if (options.levels < 1 || options.levels > 3) throw Error(what + ": invalid level count " + std::to_string(options.levels));
+  const std::size_t T = std::size_t(width) * std::size_t(height);
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    if (l1[std::size_t(r)].empty()) throw Error(what + ": level-1 codebook of ring " + std::to_string(r) + " is empty");
+    if (l1[std::size_t(r)].size() % std::size_t(btfRingSize(r)) != 0)
+      throw Error(what + ": level-1 codebook of ring " + std::to_string(r) + " has a partial entry");
+  }
+  if (chroma_grid.empty() || chroma_grid.size() % 2 != 0) throw Error(what + ": the chromaticity codebook is empty");
+  // Level-1 indices live where the level below the top stream is.
+  auto checkL1 = [&](const std::vector<std::uint32_t>& idx, const std::string& stream) {
+    for (std::size_t i = 0; i < idx.size(); ++i) {
+      const int r = int(i % kBtfRingCount);
+      if (idx[i] >= l1Count(r))
+        throw Error(what + ": " + stream + " index " + std::to_string(idx[i]) + " of ring " + std::to_string(r) +
+                    " is outside its codebook of " + std::to_string(l1Count(r)) + " entries");
+    }
+  };
+  if (options.levels == 1) {
+    const std::size_t n = T * kBtfDirectionCount * kBtfRingCount;
+    checkSize(top_index.size(), n, what, "top/index");
+    checkSize(top_scale.size(), n, what, "top/scale");
+    checkSize(top_chroma.size(), n, what, "top/chroma");
+    checkL1(top_index, "top/index");
+    checkIndices(top_chroma, chromaCount(), what, "top/chroma");
+  } else {
+    if (l2_index.empty()) throw Error(what + ": the level-2 codebook is empty");
+    checkSize(l2_scale.size(), l2_index.size(), what, "level2/scale");
+    checkSize(l2_chroma.size(), l2_index.size(), what, "level2/chroma");
+    if (l2_index.size() % kBtfRingCount != 0) throw Error(what + ": the level-2 codebook has a partial entry");
+    checkL1(l2_index, "level2/index");
+    checkIndices(l2_chroma, chromaCount(), what, "level2/chroma");
+    if (options.levels == 2) {
+      checkSize(top_index.size(), T * kBtfDirectionCount, what, "top/index");
+      checkSize(top_scale.size(), T * kBtfDirectionCount, what, "top/scale");
+      checkIndices(top_index, l2Count(), what, "top/index");
+    } else {
+      if (l3_index.empty()) throw Error(what + ": the level-3 codebook is empty");
+      if (l3_index.size() % kBtfDirectionCount != 0) throw Error(what + ": the level-3 codebook has a partial entry");
+      checkSize(l3_scale.size(), l3_index.size(), what, "level3/scale");
+      checkIndices(l3_index, l2Count(), what, "level3/index");
+      checkSize(top_index.size(), T, what, "top/index");
+      checkSize(top_scale.size(), T, what, "top/scale");
+      checkIndices(top_index, l3Count(), what, "top/index");
+    }
+  }
+  // Decoded tables.
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const std::size_t n = std::size_t(btfRingSize(r)), count = l1Count(r);
+    auto& values = l1_values[std::size_t(r)];
+    auto& cdf = l1_cdf[std::size_t(r)];
+    auto& sum = l1_sum[std::size_t(r)];
+    values.resize(l1[std::size_t(r)].size());
+    cdf.resize(count * (n + 1));
+    sum.resize(count);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = decodeVqEntryValue(l1[std::size_t(r)][i]);
+    for (std::size_t e = 0; e < count; ++e) {
+      sum[e] = float(buildCdf1D(std::span<const float>(&values[e * n], n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
+    }
+  }
+  chroma_rgb.resize(chromaCount() * 3);
+  for (std::size_t c = 0; c < chromaCount(); ++c) {
+    const float cr = float(chroma_grid[2 * c]) * options.chroma_epsilon, cb = float(chroma_grid[2 * c + 1]) * options.chroma_epsilon;
+    chroma_rgb[3 * c] = std::max(cr, 0.0f);
+    chroma_rgb[3 * c + 1] = std::max((1.0f - 0.2126f * cr - 0.0722f * cb) / 0.7152f, 0.0f);
+    chroma_rgb[3 * c + 2] = std::max(cb, 0.0f);
+  }
+  auto decode = [](const std::vector<std::uint16_t>& codes, std::vector<float>& out) {
+    out.resize(codes.size());
+    std::transform(codes.begin(), codes.end(), out.begin(), decodeVqScale);
+  };
+  decode(l2_scale, l2_scale_f);
+  decode(l3_scale, l3_scale_f);
+  decode(top_scale, top_scale_f);
+}
+
+VqBtf::VqBtf(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+int VqBtf::width() const { return impl_->width; }
+int VqBtf::height() const { return impl_->height; }
+std::string VqBtf::name() const { return impl_->name; }
+const VqOptions& VqBtf::options() const { return impl_->options; }
+const VqStats& VqBtf::stats() const { return impl_->stats; }
+
+Rgb VqBtf::value(int x, int y, int view, int light) const {
+  const Impl& m = *impl_;
+  const int ring = kLights.ring[std::size_t(light)];
+  const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  const Impl::RingCode code = m.ringCode(t, view, ring);
+  const float lum = code.scale * m.l1_values[std::size_t(ring)][std::size_t(code.entry) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)]];
+  const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+  return {lum * c[0], lum * c[1], lum * c[2]};
+}
+
+void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
+  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
+  const Impl& m = *impl_;
+  const std::size_t T = std::size_t(m.width) * std::size_t(m.height);
+  out.resize(T * kBtfDirectionCount);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, T, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t)
+      for (int r = 0; r < kBtfRingCount; ++r) {
+        const Impl::RingCode code = m.ringCode(t, view, r);
+        const int n = btfRingSize(r), start = btfRingStart(r);
+        const float* e = &m.l1_values[std::size_t(r)][std::size_t(code.entry) * std::size_t(n)];
+        const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+        for (int a = 0; a < n; ++a) {
+          const float lum = code.scale * e[a];
+          out[std::size_t(start + a) * T + t] = Rgb(lum * c[0], lum * c[1], lum * c[2]);
+        }
+      }
+  });
+}
+
+
+Rgb VqBtf::weightedSum(int x, int y, const int* views, const int* lights, const float* weights, int count) const {
+  const Impl& m = *impl_;
+  const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  float r = 0, g = 0, b = 0;
+  for (int k = 0; k < count; ++k) {
+    const int ring = kLights.ring[std::size_t(lights[k])];
+    const Impl::RingCode code = m.ringCode(t, views[k], ring);
+    const float lum = weights[k] * code.scale *
+                      m.l1_values[std::size_t(ring)][std::size_t(code.entry) * std::size_t(btfRingSize(ring)) +
+                                                     kLights.azimuth[std::size_t(lights[k])]];
+    const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+    r += lum * c[0];
+    g += lum * c[1];
+    b += lum * c[2];
+  }
+  return {r, g, b};
+}
+
+void VqBtf::lightRings(int x, int y, int view, std::array<LightRing, kBtfRingCount>& rings) const {
+  const Impl& m = *impl_;
+  const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const Impl::RingCode code = m.ringCode(t, view, r);
+    const std::size_t n = std::size_t(btfRingSize(r)), e = code.entry;
+    rings[std::size_t(r)] = {&m.l1_values[std::size_t(r)][e * n], &m.l1_cdf[std::size_t(r)][e * (n + 1)],
+                             m.l1_sum[std::size_t(r)][e], code.scale};
+  }
+}
+
+}  // namespace btf

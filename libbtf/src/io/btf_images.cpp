@@ -1,0 +1,423 @@
+#include "btf/io/btf_images.h"
+
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <limits>
+#include <map>
+
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
+#include "btf/io/atomic_file.h"
+
+namespace btf {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr int kImagesPerBtf = kBtfDirectionCount * kBtfDirectionCount;
+
+std::string lower(std::string_view text) {
+  std::string out(text);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return out;
+}
+
+bool isImageExtension(const std::string& ext) {
+  return ext == ".png" || ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" || ext == ".jpeg";
+}
+
+// "theta 30, phi 60" of a set direction, for messages.
+std::string describeDirection(int index) {
+  const BtfDirection& d = btfDirections()[std::size_t(index)];
+  char text[64];
+  std::snprintf(text, sizeof text, "theta %g, phi %g", double(d.theta_deg), double(d.phi_deg));
+  return text;
+}
+
+std::string describePair(int view, int light) {
+  return "view (" + describeDirection(view) + ") and light (" + describeDirection(light) + ")";
+}
+
+std::string sizeText(int width, int height) { return std::to_string(width) + " x " + std::to_string(height); }
+
+// Rethrows the error of the lowest index, so a failing parallel loop reports the same error
+// whatever the thread count.
+void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+float readValueScale(const fs::path& folder) {
+  const fs::path sidecar = folder / kBtfSidecarName;
+  std::error_code ec;
+  if (!fs::exists(sidecar, ec)) return 1.0f;
+  std::ifstream in(sidecar);
+  if (!in) throw FileError(sidecar, "cannot be opened for reading");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(sidecar, std::string("is not valid JSON: ") + e.what());
+  }
+  if (!doc.is_object()) throw FileError(sidecar, "expected a JSON object like {\"value_scale\": 2.5}");
+  if (!doc.contains("value_scale")) return 1.0f;
+  const nlohmann::json& s = doc["value_scale"];
+  if (!s.is_number() || !std::isfinite(s.get<double>()) || !(s.get<double>() > 0))
+    throw FileError(sidecar, "value_scale must be a finite number > 0, not " + s.dump());
+  return s.get<float>();
+}
+
+}  // namespace
+
+std::string btfImageFormatName(BtfImageFormat format) {
+  switch (format) {
+    case BtfImageFormat::Png8: return "png8";
+    case BtfImageFormat::Png16: return "png16";
+    case BtfImageFormat::Exr: return "exr";
+  }
+  return "?";
+}
+
+std::string btfImageExtension(BtfImageFormat format) { return format == BtfImageFormat::Exr ? ".exr" : ".png"; }
+
+std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name) {
+  const std::string name = lower(fs::path(file_name).stem().string());
+  // Tag order in `angles`: tv, pv, tl, pl.
+  static constexpr std::array<std::string_view, 4> kTags{"tv", "pv", "tl", "pl"};
+  std::array<std::optional<float>, 4> angles;
+  bool any = false;
+  for (std::size_t i = 0; i + 2 < name.size() + 1; ++i) {
+    if (i > 0 && std::isalpha(static_cast<unsigned char>(name[i - 1]))) continue;  // inside a word
+    for (std::size_t t = 0; t < kTags.size(); ++t) {
+      if (name.compare(i, 2, kTags[t]) != 0) continue;
+      std::size_t end = i + 2;
+      while (end < name.size() && (std::isdigit(static_cast<unsigned char>(name[end])) || name[end] == '.')) ++end;
+      while (end > i + 2 && name[end - 1] == '.') --end;  // a separator dot, not a decimal point
+      if (end == i + 2) continue;                          // a tag needs its number
+      if (angles[t]) throw Error(std::string(file_name) + ": the angle tag '" + std::string(kTags[t]) + "' appears twice");
+      angles[t] = std::stof(name.substr(i + 2, end - i - 2));
+      any = true;
+    }
+  }
+  if (!any) return std::nullopt;
+  for (std::size_t t = 0; t < kTags.size(); ++t)
+    if (!angles[t])
+      throw Error(std::string(file_name) + ": the angle tag '" + std::string(kTags[t]) +
+                  "' is missing (a BTF image is named by tv, pv, tl and pl, e.g. tv030_pv060_tl045_pl120.png)");
+  const std::optional<int> view = findBtfDirection(*angles[0], *angles[1]);
+  const std::optional<int> light = findBtfDirection(*angles[2], *angles[3]);
+  auto notInSet = [&](const char* what, float theta, float phi) {
+    char text[160];
+    std::snprintf(text, sizeof text, ": the %s direction (theta %g, phi %g) is not one of the 81 measured directions",
+                  what, double(theta), double(phi));
+    return Error(std::string(file_name) + text);
+  };
+  if (!view) throw notInSet("view", *angles[0], *angles[1]);
+  if (!light) throw notInSet("light", *angles[2], *angles[3]);
+  return BtfImagePair{*view, *light};
+}
+
+std::string btfImageName(int view, int light, BtfImageFormat format) {
+  const BtfDirection& v = btfDirections().at(std::size_t(view));
+  const BtfDirection& l = btfDirections().at(std::size_t(light));
+  char text[64];
+  std::snprintf(text, sizeof text, "tv%03d_pv%03d_tl%03d_pl%03d", int(std::lround(v.theta_deg)),
+                int(std::lround(v.phi_deg)), int(std::lround(l.theta_deg)), int(std::lround(l.phi_deg)));
+  return text + btfImageExtension(format);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+
+BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) throw FileError(folder, "no such folder");
+  if (!fs::is_directory(folder, ec)) throw FileError(folder, "is not a folder (a BTF is read from a folder of images)");
+
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, ec)) {
+    if (!entry.is_regular_file()) continue;
+    if (isImageExtension(lower(entry.path().extension().string()))) files.push_back(entry.path());
+  }
+  if (ec) throw FileError(folder, "cannot be listed: " + ec.message());
+  std::sort(files.begin(), files.end());  // directory order varies; messages must not
+
+  BtfImageFolder result;
+  result.folder_ = folder;
+  result.paths_.assign(kImagesPerBtf, fs::path());
+  int found = 0;
+  for (const fs::path& file : files) {
+    std::optional<BtfImagePair> pair;
+    try {
+      pair = parseBtfImageName(file.filename().string());
+    } catch (const Error& e) {
+      throw FileError(folder, e.what());
+    }
+    if (!pair) continue;
+    fs::path& slot = result.paths_[std::size_t(pair->view * kBtfDirectionCount + pair->light)];
+    if (!slot.empty())
+      throw FileError(folder, "two images for " + describePair(pair->view, pair->light) + ": " +
+                                  slot.filename().string() + " and " + file.filename().string());
+    slot = file;
+    ++found;
+  }
+  if (found == 0)
+    throw FileError(folder, "holds no BTF images (expected 81 x 81 images named like tv030_pv060_tl045_pl120.png)");
+  for (int view = 0; view < kBtfDirectionCount; ++view)
+    for (int light = 0; light < kBtfDirectionCount; ++light)
+      if (result.paths_[std::size_t(view * kBtfDirectionCount + light)].empty())
+        throw FileError(folder, "the image of " + describePair(view, light) + " is missing (e.g. " +
+                                    btfImageName(view, light, BtfImageFormat::Png8) + "); " +
+                                    std::to_string(kImagesPerBtf - found) + " of " + std::to_string(kImagesPerBtf) +
+                                    " images are missing");
+
+  result.value_scale_ = readValueScale(folder);
+  const fs::path& first = result.paths_[0];
+  auto in = OIIO::ImageInput::open(first.string());
+  if (!in) throw FileError(first, "cannot be read as an image: " + OIIO::geterror());
+  result.width_ = in->spec().width;
+  result.height_ = in->spec().height;
+  if (result.width_ < 1 || result.height_ < 1) throw FileError(first, "image has no pixels");
+  return result;
+}
+
+std::string BtfImageFolder::name() const {
+  const fs::path trimmed = folder_.has_filename() ? folder_ : folder_.parent_path();
+  return trimmed.filename().string();
+}
+
+const fs::path& BtfImageFolder::imagePath(int view, int light) const {
+  if (view < 0 || view >= kBtfDirectionCount || light < 0 || light >= kBtfDirectionCount)
+    throw Error("BTF image index (" + std::to_string(view) + ", " + std::to_string(light) + ") is out of range");
+  return paths_[std::size_t(view * kBtfDirectionCount + light)];
+}
+
+void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) const {
+  const fs::path& path = imagePath(view, light);
+  requireReadableFile(path);
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw FileError(path, "cannot be read as an image (corrupt?): " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width != width_ || spec.height != height_)
+    throw FileError(path, "is " + sizeText(spec.width, spec.height) + " pixels, but the BTF's images are " +
+                              sizeText(width_, height_) + " (" + paths_[0].filename().string() + ")");
+  if (spec.nchannels < 3)
+    throw FileError(path, "has " + std::to_string(spec.nchannels) + " channel(s), a BTF image needs RGB (3 or more)");
+  const std::size_t texels = std::size_t(width_) * std::size_t(height_);
+  std::vector<float> pixels(texels * 3);
+  // Channels 0..2 only; integer data arrives as code / max_code.
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
+    throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
+  const bool is_float = spec.format.is_floating_point();
+  const float scale = is_float ? 1.0f : value_scale_;
+  Rgb* dst = out.data() + std::size_t(light) * texels;
+  for (std::size_t i = 0; i < texels; ++i) {
+    const Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
+    if (is_float && (!v.isFinite() || v.minComponent() < 0.0f))
+      throw FileError(path, "pixel (" + std::to_string(i % std::size_t(width_)) + ", " +
+                                std::to_string(i / std::size_t(width_)) + ") holds " +
+                                (v.isFinite() ? "a negative value" : "NaN or infinity") +
+                                "; BTF values are finite and >= 0");
+    dst[i] = v;
+  }
+}
+
+void BtfImageFolder::loadView(int view, std::vector<Rgb>& out) const {
+  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
+  out.resize(std::size_t(kBtfDirectionCount) * texelCount());
+  std::vector<std::exception_ptr> errors(kBtfDirectionCount);
+  tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
+    try {
+      readImageInto(view, light, out);
+    } catch (...) {
+      errors[std::size_t(light)] = std::current_exception();
+    }
+  });
+  rethrowFirst(errors);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+
+// Hidden sibling of the destination, unique per process and call.
+fs::path siblingPath(const fs::path& folder, const std::string& kind) {
+  static std::atomic<unsigned> counter{0};
+  std::string name(".");
+  name.append(folder.filename().string())
+      .append(".")
+      .append(kind)
+      .append(std::to_string(::getpid()))
+      .append("-")
+      .append(std::to_string(counter++));
+  return folder.parent_path() / name;
+}
+
+void requireValidValue(const BtfSource& source, int view, std::size_t index, const Rgb& v) {
+  if (v.isFinite() && v.minComponent() >= 0.0f) return;
+  const std::size_t texels = source.texelCount();
+  const std::size_t light = index / texels, texel = index % texels;
+  throw Error(source.name() + ": entry (x " + std::to_string(texel % std::size_t(source.width())) + ", y " +
+              std::to_string(texel / std::size_t(source.width())) + ", view " + std::to_string(view) + ", light " +
+              std::to_string(light) + ") is " + (v.isFinite() ? "negative" : "NaN or infinite") +
+              "; cannot be written as a BTF image");
+}
+
+float findLargestValue(const BtfSource& source) {
+  Progress progress("scanning " + source.name() + " for its largest value", kBtfDirectionCount);
+  std::vector<Rgb> values;
+  float largest = 0.0f;
+  for (int view = 0; view < kBtfDirectionCount; ++view) {
+    source.loadView(view, values);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      requireValidValue(source, view, i, values[i]);
+      largest = std::max(largest, values[i].maxComponent());
+    }
+    progress.advance();
+  }
+  return largest;
+}
+
+template <typename Code>
+std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_scale) {
+  constexpr float kMaxCode = float(std::numeric_limits<Code>::max());
+  std::vector<Code> codes(count * 3);
+  for (std::size_t i = 0; i < count; ++i)
+    for (int c = 0; c < 3; ++c)
+      codes[3 * i + std::size_t(c)] = Code(std::lround(std::clamp(values[i][c] / value_scale, 0.0f, 1.0f) * kMaxCode));
+  return codes;
+}
+
+void writeOneImage(const fs::path& path, int width, int height, BtfImageFormat format, const Rgb* values,
+                   float value_scale) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  if (!out) throw FileError(path, "no image writer for this extension: " + OIIO::geterror());
+  const std::size_t count = std::size_t(width) * std::size_t(height);
+  OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
+  std::vector<std::uint8_t> codes8;
+  std::vector<std::uint16_t> codes16;
+  const void* data = values;
+  static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is read as three packed floats");
+  if (format == BtfImageFormat::Png8) {
+    codes8 = quantize<std::uint8_t>(values, count, value_scale);
+    type = OIIO::TypeDesc::UINT8;
+    data = codes8.data();
+  } else if (format == BtfImageFormat::Png16) {
+    codes16 = quantize<std::uint16_t>(values, count, value_scale);
+    type = OIIO::TypeDesc::UINT16;
+    data = codes16.data();
+  }
+  OIIO::ImageSpec spec(width, height, 3, type);
+  if (format == BtfImageFormat::Exr) spec.attribute("compression", "zip");
+  if (!out->open(path.string(), spec) || !out->write_image(type, data) || !out->close())
+    throw FileError(path, "cannot be written: " + out->geterror());
+}
+
+// A destination we may replace: absent, an empty folder, or a BTF folder this writer made.
+void requireReplaceable(const fs::path& folder, bool overwrite) {
+  std::error_code ec;
+  const fs::path parent = folder.parent_path().empty() ? fs::path(".") : folder.parent_path();
+  if (!fs::is_directory(parent, ec)) throw FileError(folder, "folder " + parent.string() + " does not exist");
+  if (!fs::exists(folder, ec)) return;
+  if (!fs::is_directory(folder, ec)) throw FileError(folder, "exists and is not a folder");
+  if (fs::is_empty(folder, ec)) return;
+  if (!overwrite) throw FileError(folder, "exists already (remove it first)");
+  if (!fs::exists(folder / kBtfSidecarName, ec))
+    throw FileError(folder, "exists and is not a BTF image folder written by libbtf (no " +
+                                std::string(kBtfSidecarName) + "); refusing to replace it");
+}
+
+void writeSidecar(const fs::path& path, const BtfSource& source, BtfImageFormat format, float value_scale) {
+  const nlohmann::json doc{{"value_scale", value_scale},
+                           {"width", source.width()},
+                           {"height", source.height()},
+                           {"format", btfImageFormatName(format)},
+                           {"source", source.name()},
+                           {"value", "apparent BRDF (1/sr); integer images hold code / max_code * value_scale"}};
+  std::ofstream out(path);
+  out << doc.dump(2) << "\n";
+  out.flush();
+  if (!out) throw FileError(path, "cannot be written (disk full?)");
+}
+
+}  // namespace
+
+void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, const BtfImageWriteOptions& options) {
+  // A trailing slash would make the temporary folder a child instead of a sibling.
+  const fs::path folder = folder_in.has_filename() ? folder_in : folder_in.parent_path();
+  if (folder.empty()) throw FileError(folder_in, "is not a folder name to write");
+  requireReplaceable(folder, options.overwrite);
+  const bool is_png = options.format != BtfImageFormat::Exr;
+  float value_scale = 1.0f;
+  if (is_png) {
+    if (options.value_scale) {
+      value_scale = *options.value_scale;
+      if (!std::isfinite(value_scale) || !(value_scale > 0))
+        throw Error("value_scale must be finite and > 0, not " + std::to_string(value_scale));
+    } else {
+      const float largest = findLargestValue(source);
+      value_scale = largest > 0.0f ? largest : 1.0f;
+    }
+  }
+
+  const fs::path temporary = siblingPath(folder, "tmp");
+  std::error_code ec;
+  if (!fs::create_directory(temporary, ec)) throw FileError(temporary, "cannot be created: " + ec.message());
+  try {
+    Progress progress("writing " + folder.filename().string(), kImagesPerBtf);
+    const int width = source.width(), height = source.height();
+    const std::size_t texels = source.texelCount();
+    std::vector<Rgb> values;
+    for (int view = 0; view < kBtfDirectionCount; ++view) {
+      source.loadView(view, values);
+      if (values.size() != texels * kBtfDirectionCount)
+        throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(values.size()) +
+                    " values, expected " + std::to_string(texels * kBtfDirectionCount));
+      for (std::size_t i = 0; i < values.size(); ++i) requireValidValue(source, view, i, values[i]);
+      std::vector<std::exception_ptr> errors(kBtfDirectionCount);
+      tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
+        try {
+          const fs::path path = temporary / btfImageName(view, light, options.format);
+          writeOneImage(path, width, height, options.format, values.data() + std::size_t(light) * texels, value_scale);
+          progress.advance();
+        } catch (...) {
+          errors[std::size_t(light)] = std::current_exception();
+        }
+      });
+      rethrowFirst(errors);
+    }
+    writeSidecar(temporary / kBtfSidecarName, source, options.format, value_scale);
+
+    // Swap in: move an old folder aside first, so the destination name always holds a whole BTF.
+    fs::path old;
+    if (fs::exists(folder, ec)) {
+      old = siblingPath(folder, "old");
+      fs::rename(folder, old, ec);
+      if (ec) throw FileError(folder, "cannot be replaced: " + ec.message());
+    }
+    fs::rename(temporary, folder, ec);
+    if (ec) {
+      std::error_code ignored;
+      if (!old.empty()) fs::rename(old, folder, ignored);
+      throw FileError(folder, "cannot be written: " + ec.message());
+    }
+    if (!old.empty()) fs::remove_all(old, ec);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(temporary, ignored);
+    throw;
+  }
+}
+
+}  // namespace btf

@@ -1,0 +1,60 @@
+// Tiny BTFs built in memory from analytic materials, for the VQ and BtfMaterial tests: value =
+// the material's f for wi = light direction, wo = view direction, with per-texel albedo and
+// roughness patterns (a checker of two colours times a gradient, roughness varying along y).
+#pragma once
+
+#include <cmath>
+#include <memory>
+
+#include "btf/core/btf_directions.h"
+#include "btf/io/btf_data.h"
+#include "btf/material/ggx.h"
+
+namespace btf::test {
+
+// Texel colour and roughness of the patterns.
+inline Rgb patternColour(int x, int y, int width, int height) {
+  const Rgb a(0.7f, 0.3f, 0.15f), b(0.2f, 0.45f, 0.6f);
+  const float gradient = 0.6f + 0.4f * float(x + 1) / float(width) * float(y + 2) / float(height + 1);
+  return (((x / 2 + y / 2) % 2) == 0 ? a : b) * gradient;
+}
+inline float patternAlpha(int y, int height) { return 0.15f + 0.35f * float(y) / float(std::max(height - 1, 1)); }
+
+// colour_per_texel: value = colour(x, y) x the luminance shape of a grey GGX (constant chromaticity
+// per texel); otherwise a GGX with the coloured diffuse base and a white specular lobe (the
+// chromaticity varies with direction).
+inline BtfData makeGgxBtf(int width, int height, bool colour_per_texel) {
+  BtfData data(width, height, "ggx-pattern");
+  const auto& dirs = btfDirections();
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const Rgb colour = patternColour(x, y, width, height);
+      const float alpha = patternAlpha(y, height);
+      const Ggx grey(Rgb(0.5f), Rgb(0.04f), alpha, alpha * (x % 3 == 0 ? 1.0f : 0.7f));
+      const Ggx coloured(colour, Rgb(0.04f), alpha, alpha);
+      for (int v = 0; v < kBtfDirectionCount; ++v)
+        for (int l = 0; l < kBtfDirectionCount; ++l) {
+          const glm::vec3 wi = dirs[std::size_t(l)].w, wo = dirs[std::size_t(v)].w;
+          data.at(x, y, v, l) = colour_per_texel ? colour * grey.eval(wi, wo).g : coloured.eval(wi, wo);
+        }
+    }
+  return data;
+}
+
+// rel_rmse of the luminance alone (the part the VQ tolerance bounds).
+inline double luminanceRelRmse(const BtfSource& reference, const BtfSource& test) {
+  std::vector<Rgb> a, b;
+  double err = 0, ref = 0;
+  for (int v = 0; v < kBtfDirectionCount; ++v) {
+    reference.loadView(v, a);
+    test.loadView(v, b);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const double d = double(b[i].luminance()) - a[i].luminance();
+      err += d * d;
+      ref += double(a[i].luminance()) * a[i].luminance();
+    }
+  }
+  return std::sqrt(err / ref);
+}
+
+}  // namespace btf::test

@@ -1,0 +1,245 @@
+// Multi-level VQ compression (compress/vq_btf.h) on tiny analytic BTFs (btf_test_data.h): error
+// within the bound the tolerance implies, near-lossless at epsilon 0, thread-count independence,
+// .btfz round trip and the reader's rejections.
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "btf/compress/vq_btf.h"
+#include "btf/core/error.h"
+#include "btf/io/container.h"
+#include "btf_test_data.h"
+#include "support/test_support.h"
+
+namespace {
+
+// (1 + epsilon sqrt(1 + floor^2) + quantization)^levels - 1: the luminance bound of vq_btf.h
+// (default energy_floor 1).
+double luminanceBound(float epsilon, int levels, float floor = 1.0f) {
+  return std::pow(1.0 + epsilon * std::sqrt(1.0 + double(floor) * floor) + 1e-3, levels) - 1.0;
+}
+
+void expectSameDecode(const btf::BtfSource& a, const btf::BtfSource& b) {
+  std::vector<btf::Rgb> va, vb;
+  for (int v = 0; v < btf::kBtfDirectionCount; ++v) {
+    a.loadView(v, va);
+    b.loadView(v, vb);
+    ASSERT_EQ(va.size(), vb.size());
+    for (std::size_t i = 0; i < va.size(); ++i) ASSERT_EQ(va[i], vb[i]) << "view " << v << ", entry " << i;
+  }
+}
+
+const btf::BtfData& constantChromaBtf() {
+  static const btf::BtfData data = btf::test::makeGgxBtf(8, 8, true);
+  return data;
+}
+const btf::BtfData& varyingChromaBtf() {
+  static const btf::BtfData data = btf::test::makeGgxBtf(8, 8, false);
+  return data;
+}
+
+}  // namespace
+
+TEST(VqBtf, RoundTripErrorWithinTheToleranceBoundAtEveryLevel) {
+  for (int levels = 1; levels <= 3; ++levels)
+    for (float epsilon : {0.01f, 0.05f}) {
+      btf::VqOptions options;
+      options.epsilon = epsilon;
+      options.levels = levels;
+      const btf::VqBtf vq = btf::compressVq(constantChromaBtf(), options);
+      const double lum = btf::test::luminanceRelRmse(constantChromaBtf(), vq);
+      EXPECT_LE(lum, luminanceBound(epsilon, levels)) << "levels " << levels << ", epsilon " << epsilon;
+      // Constant chromaticity per texel: RGB adds at most the chroma grid's 1.5 steps per component.
+      const btf::BtfErrorStats rgb = btf::compareBtf(constantChromaBtf(), vq);
+      EXPECT_LE(rgb.rel_rmse, luminanceBound(epsilon, levels) + 3.0 * options.chroma_epsilon);
+      ASSERT_EQ(vq.stats().codebook_entries.size(), std::size_t(levels));
+      EXPECT_GT(vq.stats().ratio_u8, 1.0);
+      // value() decodes the same entries as loadView().
+      std::vector<btf::Rgb> view;
+      vq.loadView(40, view);
+      for (int l : {0, 5, 30, 80})
+        for (int t : {0, 9, 63})
+          EXPECT_EQ(vq.value(t % 8, t / 8, 40, l), view[std::size_t(l) * 64 + std::size_t(t)]);
+    }
+}
+
+TEST(VqBtf, LargerToleranceGivesFewerEntries) {
+  btf::VqOptions fine, coarse;
+  fine.epsilon = 0.01f;
+  coarse.epsilon = 0.1f;
+  const auto a = btf::compressVq(varyingChromaBtf(), fine), b = btf::compressVq(varyingChromaBtf(), coarse);
+  // Level 1 sees the data itself; the upper levels see reconstructions that change with epsilon,
+  // so only the level-1 count and the total size are monotone.
+  EXPECT_LT(b.stats().codebook_entries[0], a.stats().codebook_entries[0]);
+  EXPECT_GT(b.stats().ratio_u8, a.stats().ratio_u8);
+}
+
+TEST(VqBtf, ScaledCopiesOfOneTexelShareEveryEntry) {
+  // Every texel is texel (0, 0) times a factor: one texel's worth of entries at each level.
+  const btf::BtfData& src = constantChromaBtf();
+  btf::BtfData copies(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int v = 0; v < btf::kBtfDirectionCount; ++v)
+        for (int l = 0; l < btf::kBtfDirectionCount; ++l) copies.at(x, y, v, l) = src.at(0, 0, v, l) * (0.5f + 0.25f * float(x + 4 * y));
+  btf::VqOptions options;
+  options.epsilon = 0.01f;
+  options.energy_floor = 0.0f;  // purely relative: invariant under scaling
+  const auto vq = btf::compressVq(copies, options);
+  EXPECT_EQ(vq.stats().codebook_entries[2], 2u);  // the seed (uniform texel) + one
+  const auto single = btf::compressVq(btf::test::makeGgxBtf(1, 1, true), options);
+  EXPECT_EQ(vq.stats().codebook_entries[1], single.stats().codebook_entries[1]);
+  EXPECT_LE(btf::test::luminanceRelRmse(copies, vq), luminanceBound(0.01f, 3, 0.0f));
+}
+
+TEST(VqBtf, PurelyRelativeToleranceHasTheTighterBound) {
+  btf::VqOptions options;
+  options.epsilon = 0.02f;
+  options.energy_floor = 0.0f;
+  const btf::VqBtf strict = btf::compressVq(constantChromaBtf(), options);
+  EXPECT_LE(btf::test::luminanceRelRmse(constantChromaBtf(), strict), luminanceBound(0.02f, 3, 0.0f));
+  options.energy_floor = 1.0f;
+  const btf::VqBtf floored = btf::compressVq(constantChromaBtf(), options);
+  EXPECT_LE(floored.stats().codebook_entries[0], strict.stats().codebook_entries[0]);
+}
+
+TEST(VqBtf, EpsilonZeroIsNearLossless) {
+  btf::VqOptions options;
+  options.epsilon = 0.0f;
+  options.chroma_epsilon = 1e-4f;
+  const btf::VqBtf vq = btf::compressVq(constantChromaBtf(), options);
+  EXPECT_LT(btf::test::luminanceRelRmse(constantChromaBtf(), vq), 2e-3);
+  EXPECT_LT(btf::compareBtf(constantChromaBtf(), vq).rel_rmse, 2e-3);
+}
+
+TEST(VqBtf, ChromaErrorOfDirectionDependentColourIsMeasuredNotBounded) {
+  // A white specular lobe on a coloured base: the ring-mean chromaticity cannot follow the
+  // highlight, so RGB error exceeds the luminance error; both stay moderate.
+  btf::VqOptions options;
+  options.epsilon = 0.02f;
+  const btf::VqBtf vq = btf::compressVq(varyingChromaBtf(), options);
+  const double lum = btf::test::luminanceRelRmse(varyingChromaBtf(), vq);
+  const double rgb = btf::compareBtf(varyingChromaBtf(), vq).rel_rmse;
+  EXPECT_LE(lum, luminanceBound(0.02f, 3));
+  EXPECT_GE(rgb, lum * 0.5);
+  EXPECT_LT(rgb, 0.15);
+}
+
+TEST(VqBtf, OutputDoesNotDependOnTheThreadCount) {
+  btf::VqOptions options;
+  options.epsilon = 0.02f;
+  std::optional<btf::VqBtf> one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = btf::compressVq(varyingChromaBtf(), options);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = btf::compressVq(varyingChromaBtf(), options);
+  }
+  options.threads = 2;
+  const btf::VqBtf arena = btf::compressVq(varyingChromaBtf(), options);
+  EXPECT_EQ(one->stats().codebook_entries, two->stats().codebook_entries);
+  EXPECT_EQ(one->stats().compressed_bytes, two->stats().compressed_bytes);
+  expectSameDecode(*one, *two);
+  expectSameDecode(*one, arena);
+  btf::test::TempDir dir;
+  one->write(dir / "one.btfz");
+  two->write(dir / "two.btfz");
+  std::ifstream a(dir / "one.btfz", std::ios::binary), b(dir / "two.btfz", std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_EQ(bytes_a == bytes_b, true);
+}
+
+TEST(VqBtf, WriteReadRoundTripDecodesBitIdentically) {
+  btf::test::TempDir dir;
+  for (int levels = 1; levels <= 3; ++levels) {
+    btf::VqOptions options;
+    options.levels = levels;
+    const btf::VqBtf vq = btf::compressVq(varyingChromaBtf(), options);
+    const auto path = dir / ("l" + std::to_string(levels) + ".btfz");
+    vq.write(path);
+    EXPECT_EQ(vq.stats().compressed_bytes, std::filesystem::file_size(path));
+    const btf::VqBtf back = btf::VqBtf::read(path);
+    EXPECT_EQ(back.options().levels, levels);
+    EXPECT_EQ(back.stats().codebook_entries, vq.stats().codebook_entries);
+    expectSameDecode(vq, back);
+  }
+}
+
+TEST(VqBtf, ReaderRejectsCorruptAndSemanticallyInvalidFiles) {
+  btf::test::TempDir dir;
+  const btf::VqBtf vq = btf::compressVq(varyingChromaBtf(), {});
+  const auto good = dir / "good.btfz";
+  vq.write(good);
+  // A flipped byte in the payload: the container's checksum.
+  {
+    std::string bytes;
+    {
+      std::ifstream in(good, std::ios::binary);
+      bytes.assign((std::istreambuf_iterator<char>(in)), {});
+    }
+    bytes[bytes.size() - 10] = char(bytes[bytes.size() - 10] ^ 0x40);
+    std::ofstream(dir / "flipped.btfz", std::ios::binary) << bytes;
+    EXPECT_THROW(btf::VqBtf::read(dir / "flipped.btfz"), btf::FileError);
+    std::ofstream(dir / "truncated.btfz", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    EXPECT_THROW(btf::VqBtf::read(dir / "truncated.btfz"), btf::FileError);
+  }
+  // Valid containers with invalid VQ content: an empty codebook, an index beyond its codebook,
+  // a missing section.
+  auto rewrite = [&](const std::string& name, auto&& change) {
+    auto sections = btf::readContainer(good);
+    for (auto& s : sections) s.compress = true;
+    change(sections);
+    const auto path = dir / (name + ".btfz");
+    btf::writeContainer(path, sections);
+    return path;
+  };
+  auto find = [](std::vector<btf::ContainerSection>& sections, const std::string& name) -> btf::ContainerSection& {
+    for (auto& s : sections)
+      if (s.name == name) return s;
+    throw std::runtime_error("no section " + name);
+  };
+  const auto empty = rewrite("empty", [&](auto& sections) { find(sections, "level2/index").data = {std::byte(1)}; });
+  try {
+    btf::VqBtf::read(empty);
+    ADD_FAILURE() << "empty codebook accepted";
+  } catch (const btf::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
+  }
+  const auto beyond = rewrite("beyond", [&](auto& sections) {
+    auto& top = find(sections, "top/index");
+    const int width = int(top.data[0]);
+    top.data[1 + std::size_t(width - 1) * ((top.data.size() - 1) / std::size_t(width))] = std::byte(0xff);
+  });
+  try {
+    btf::VqBtf::read(beyond);
+    ADD_FAILURE() << "index outside its codebook accepted";
+  } catch (const btf::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("outside its codebook"), std::string::npos) << e.what();
+  }
+  const auto missing = rewrite("missing", [&](auto& sections) {
+    std::erase_if(sections, [](const btf::ContainerSection& s) { return s.name == "level3/scale"; });
+  });
+  EXPECT_THROW(btf::VqBtf::read(missing), btf::FileError);
+}
+
+TEST(VqBtf, RejectsInvalidOptionsAndData) {
+  btf::VqOptions options;
+  options.levels = 4;
+  EXPECT_THROW(btf::compressVq(constantChromaBtf(), options), btf::Error);
+  options = {};
+  options.epsilon = -0.1f;
+  EXPECT_THROW(btf::compressVq(constantChromaBtf(), options), btf::Error);
+  btf::BtfData bad(2, 2, "bad");
+  bad.at(1, 0, 3, 7) = btf::Rgb(-1.0f);
+  try {
+    btf::compressVq(bad, {});
+    ADD_FAILURE() << "negative value accepted";
+  } catch (const btf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("view 3, light 7"), std::string::npos) << e.what();
+  }
+}

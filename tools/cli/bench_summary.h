@@ -1,0 +1,22 @@
+// The printed conclusions of `btf bench sampling`, from its rows (sampling_table.h):
+// - the quadtree table: per material and threshold, acceptance rate, samples/s and efficiency,
+//   beside the best DP-CDF efficiency of the material, and one line naming the materials where the
+//   quadtree's best efficiency beats the DP sampler's best and those where it loses;
+// - the memory target "DP-CDF memory <= 1/10 of the full tabulated CDF at equal efficiency within
+//   5%": per material and epsilon, bytes / full_cdf_bytes and efficiency / tabulated efficiency,
+//   with the epsilons meeting both marked.
+// Efficiency is a measurement (a variance estimate times a wall time), so a ratio near 0.95 is
+// within its noise; the table says so rather than hiding it.
+#pragma once
+
+#include <cstdio>
+#include <vector>
+
+#include "sampling_table.h"
+
+namespace btf::cli {
+
+void printQuadtreeSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
+void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
+
+}  // namespace btf::cli

@@ -1,0 +1,44 @@
+#include "btf_input.h"
+
+#include "btf/compress/vq_btf.h"
+#include "btf/core/error.h"
+#include "btf/io/btf_images.h"
+#include "measured_file.h"
+
+namespace btf::cli {
+
+BtfData brdfAsBtf(const Material& material, const std::string& name) {
+  BtfData data(1, 1, name);
+  const auto& directions = btfDirections();
+  for (int view = 0; view < kBtfDirectionCount; ++view)
+    for (int light = 0; light < kBtfDirectionCount; ++light) {
+      const Rgb f = material.eval(directions[std::size_t(light)].w, directions[std::size_t(view)].w);
+      if (!f.isFinite() || f.minComponent() < 0.0f)
+        throw Error(name + ": the material gives an invalid value at view " + std::to_string(view) + ", light " +
+                    std::to_string(light));
+      data.at(0, 0, view, light) = f;
+    }
+  return data;
+}
+
+BtfInput openBtfInput(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    auto folder = std::make_shared<BtfImageFolder>(BtfImageFolder::open(path));
+    return {BtfInputKind::ImageFolder, folder, "image-folder BTF"};
+  }
+  if (!std::filesystem::exists(path, ec)) throw FileError(path, "no such file or folder");
+  if (path.extension() == ".btfz") {
+    auto vq = std::make_shared<VqBtf>(VqBtf::read(path));
+    return {BtfInputKind::Compressed, vq, "VQ-compressed BTF (.btfz)"};
+  }
+  const std::string ext = path.extension().string();
+  if (ext != ".binary" && ext != ".bsdf" && ext != ".exr")
+    throw FileError(path, "is not a BTF (expected an image folder, a .btfz file, or a BRDF as .binary, .exr or .bsdf)");
+  const MeasuredFormat format = measuredFormatOf(path);
+  const auto material = loadMeasuredMaterial(path, TableLookup::Interpolated);
+  auto data = std::make_shared<BtfData>(brdfAsBtf(*material, path.stem().string()));
+  return {BtfInputKind::Brdf, data, describe(format) + " as a one-texel BTF at 81 x 81 directions"};
+}
+
+}  // namespace btf::cli
