@@ -71,8 +71,12 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
 }  // namespace
 
 bool isBtfPath(const std::filesystem::path& path) {
+  // A folder named like a measured BRDF file (a mistake, say folder.binary) is reported as such by
+  // the BRDF readers ("is a directory"), not as a BTF folder without images.
+  const std::string ext = path.extension().string();
+  if (ext == ".binary" || ext == ".exr" || ext == ".bsdf") return false;
   std::error_code ec;
-  return std::filesystem::is_directory(path, ec) || path.extension() == ".btfz";
+  return std::filesystem::is_directory(path, ec) || ext == ".btfz";
 }
 
 void runBtfInfo(const std::filesystem::path& path, bool json) {

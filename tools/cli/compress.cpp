@@ -100,7 +100,7 @@ void registerCompressCommands(CLI::App& app) {
   cmd->add_option("--epsilon", args->vq.epsilon, "Relative L2 tolerance per level (0: near-lossless)")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 1.0f));
-  cmd->add_option("--chroma-epsilon", args->vq.chroma_epsilon, "Grid step of the chromaticity (R/Y, B/Y)")
+  cmd->add_option("--chroma-epsilon", args->vq.chroma_epsilon, "Absolute tolerance of the chromaticity (R/Y, B/Y) per light")
       ->capture_default_str()
       ->check(CLI::Range(1e-5f, 1.0f));
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")

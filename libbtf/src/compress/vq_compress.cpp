@@ -14,13 +14,18 @@
 // Reuse rules (least-squares error <= the tolerance of vq_btf.h at each level, Codebook's radius
 // search with the radius of that vector's relative tolerance):
 // - level 1: exact by the chord radius on unit directions (codebook.h);
+// - chromaticity (per ring, alongside level 1): the key is the ring's chroma function (R/Y, B/Y
+//   per azimuth), normalized; candidates are the 8 nearest within a generous chord radius
+//   (4 chroma_epsilon sqrt(n) / |c|), verified exactly by the luminance-weighted error of vq_btf.h;
 // - level 2: the key is the level-1 reconstruction of the slice, normalized; the first of the 8
 //   nearest entries within the radius whose chromaticities pass (vq_btf.h) is reused;
 // - level 3: the key is the texel's 81 view scales (normalized). Since |a e - b e'| >= |a - b| for
 //   unit e, e', an entry whose full reconstruction is within epsilon has a key within about the
 //   same radius; candidates (8 nearest within 1.5x the radius) are verified on the full
 //   81 x 81 reconstruction through the level-2 entries' dot products.
-// Rings without light (all zero) skip the chromaticity check: their colour is never seen.
+// Rings without light (all zero) skip the chromaticity check: their colour is never seen. Level 3
+// reuses a level-2 entry's ring chromaticity only when it is the data's own level-1 chroma entry or
+// the one its level-2 entry carries, both verified against the data.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -30,7 +35,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <unordered_map>
 
 #include "btf/compress/codebook.h"
 #include "btf/core/error.h"
@@ -87,7 +91,14 @@ class Compressor {
       l1_[std::size_t(r)].add(entry);
       out_.l1[std::size_t(r)].assign(std::size_t(btfRingSize(r)), encodeVqEntryValue(c));
     }
-    chromaIndex(gridOf(1.0f), gridOf(1.0f));
+    const float step = vqChromaStep(options.chroma_epsilon);
+    const std::int32_t grey = std::int32_t(std::lround(1.0 / double(step)));
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      const std::size_t n2 = 2 * std::size_t(btfRingSize(r));
+      chroma_books_.emplace_back(int(n2));
+      out_.chroma[std::size_t(r)].assign(n2, grey);
+      chroma_books_.back().add(std::vector<float>(n2, float(grey) * step));
+    }
     if (options.levels >= 2) {
       std::vector<std::uint32_t> e1(kBtfRingCount, 0), ch(kBtfRingCount, 0);
       std::vector<std::uint16_t> sc(kBtfRingCount);
@@ -151,20 +162,78 @@ class Compressor {
                 std::to_string(t % std::size_t(source_.width())) + ", " + std::to_string(t / std::size_t(source_.width())) +
                 ") holds a negative, infinite or NaN value");
   }
-  std::int32_t gridOf(float c) const { return std::int32_t(std::lround(double(c) / options_.chroma_epsilon)); }
-  std::uint32_t chromaIndex(std::int32_t i, std::int32_t j) {
-    const std::int64_t key = (std::int64_t(i) << 32) ^ std::int64_t(std::uint32_t(j));
-    auto [it, inserted] = chroma_map_.try_emplace(key, std::uint32_t(out_.chromaCount()));
-    if (inserted) {
-      out_.chroma_grid.push_back(i);
-      out_.chroma_grid.push_back(j);
+  // Luminance-weighted squared chroma error of ring r's chroma entry `entry` against texel t's own
+  // chroma function (current view): sum over azimuths of u_a^2 |c_entry,a - c_a|^2 with u the
+  // ring's unit luminance function (vq_btf.h).
+  bool chromaPasses(std::uint32_t entry, std::size_t t, int r) const {
+    const int n = btfRingSize(r), start = btfRingStart(r);
+    const float* e = chroma_books_[std::size_t(r)].entry(entry);
+    const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+    const float* u = &units_[t * kBtfDirectionCount + std::size_t(start)];
+    double err = 0;
+    for (int a = 0; a < 2 * n; ++a) {
+      const double d = double(e[a]) - c[a], w = u[a / 2];
+      err += w * w * d * d;
     }
-    return it->second;
+    const double ce = options_.chroma_epsilon;
+    return err <= ce * ce;
   }
-  bool chromaClose(std::uint32_t a, std::uint32_t own) const {
-    if (own == kNoChroma) return true;
-    return std::abs(out_.chroma_grid[2 * a] - out_.chroma_grid[2 * own]) <= 1 &&
-           std::abs(out_.chroma_grid[2 * a + 1] - out_.chroma_grid[2 * own + 1]) <= 1;
+  // Chroma entries of ring r for all texels of the view (lit rings; unlit ones take entry 0), in
+  // the same snapshot-then-sequential order as level 1.
+  void quantizeChroma(int r) {
+    const std::size_t T = texels_;
+    const int n = btfRingSize(r), start = btfRingStart(r);
+    const std::size_t n2 = 2 * std::size_t(n);
+    Codebook& book = chroma_books_[std::size_t(r)];
+    const float step = vqChromaStep(options_.chroma_epsilon);
+    std::vector<float> keys(T * n2);
+    std::vector<float> radius(T);
+    parallelFor(T, [&](std::size_t t) {
+      const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+      const float len = norm(c, int(n2));
+      for (std::size_t i = 0; i < n2; ++i) keys[t * n2 + i] = len > 0 ? c[i] / len : 0.0f;
+      radius[t] = Codebook::chordRadius(len > 0 ? float(std::min(1.0, 4.0 * options_.chroma_epsilon * std::sqrt(double(n)) / len)) : 1.0f);
+    });
+    auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * n2], n2); };
+    auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
+    std::vector<std::int64_t> match(T, -1);
+    parallelFor(T, [&](std::size_t t) {
+      if (!lit(t)) {
+        match[t] = 0;
+        return;
+      }
+      thread_local std::vector<Codebook::Match> found;
+      book.search(key(t), radius[t], kCandidates, found);
+      for (const auto& m : found)
+        if (chromaPasses(m.index, t, r)) {
+          match[t] = m.index;
+          break;
+        }
+    });
+    Codebook fresh{int(n2)};
+    std::vector<std::uint32_t> fresh_global;
+    std::vector<Codebook::Match> found;
+    std::vector<float> entry(n2);
+    for (std::size_t t = 0; t < T; ++t) {
+      if (match[t] >= 0) continue;
+      fresh.search(key(t), radius[t], kCandidates, found);
+      for (const auto& m : found)
+        if (chromaPasses(fresh_global[m.index], t, r)) {
+          match[t] = fresh_global[m.index];
+          break;
+        }
+      if (match[t] >= 0) continue;
+      const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+      for (std::size_t i = 0; i < n2; ++i) {
+        const std::int32_t q = std::int32_t(std::lround(double(c[i]) / step));
+        out_.chroma[std::size_t(r)].push_back(q);
+        entry[i] = float(q) * step;
+      }
+      match[t] = book.add(entry);
+      fresh.add(entry);
+      fresh_global.push_back(std::uint32_t(match[t]));
+    }
+    for (std::size_t t = 0; t < T; ++t) chroma_[t * kBtfRingCount + std::size_t(r)] = std::uint32_t(match[t]);
   }
 
   // Relative tolerance for a vector of norm `len` in a batch of RMS norm `rms` (vq_btf.h).
@@ -177,10 +246,10 @@ class Compressor {
   // ---- level 1 -------------------------------------------------------------------------------
   void level1(const std::vector<Rgb>& buffer, int v) {
     const std::size_t T = texels_;
-    // Luminance functions (unit directions and norms) and chromaticity grid points, in parallel.
+    // Luminance functions (unit directions and norms) and chroma functions, in parallel.
     units_.resize(T * kBtfDirectionCount);
     norms_.resize(T * kBtfRingCount);
-    grid_.resize(T * kBtfRingCount * 2);
+    cfun_.resize(T * kBtfDirectionCount * 2);
     parallelFor(T, [&](std::size_t t) {
       for (int r = 0; r < kBtfRingCount; ++r) {
         const int n = btfRingSize(r), start = btfRingStart(r);
@@ -196,14 +265,20 @@ class Compressor {
         const float len = norm(f, n);
         norms_[t * kBtfRingCount + std::size_t(r)] = len;
         for (int a = 0; a < n; ++a) f[a] = len > 0 ? f[a] / len : 0.0f;
+        // Chroma per azimuth; where the luminance is zero (weight zero) the ring's mean.
         const bool lit = sy > 0;
-        grid_[2 * (t * kBtfRingCount + std::size_t(r))] = gridOf(lit ? float(sr / sy) : 1.0f);
-        grid_[2 * (t * kBtfRingCount + std::size_t(r)) + 1] = gridOf(lit ? float(sb / sy) : 1.0f);
+        const float mr = lit ? float(sr / sy) : 1.0f, mb = lit ? float(sb / sy) : 1.0f;
+        float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+        for (int a = 0; a < n; ++a) {
+          const Rgb& rgb = buffer[std::size_t(start + a) * T + t];
+          const float y = rgb.luminance();
+          c[2 * a] = y > 0 ? rgb.r / y : mr;
+          c[2 * a + 1] = y > 0 ? rgb.b / y : mb;
+        }
       }
     });
-    // Chromaticity indices in texel order (first occurrence numbers the codebook).
     chroma_.resize(T * kBtfRingCount);
-    for (std::size_t k = 0; k < T * kBtfRingCount; ++k) chroma_[k] = chromaIndex(grid_[2 * k], grid_[2 * k + 1]);
+    for (int r = 0; r < kBtfRingCount; ++r) quantizeChroma(r);
 
     entries_.assign(T * kBtfRingCount, 0);
     scales_.assign(T * kBtfRingCount, 0);
@@ -297,8 +372,9 @@ class Compressor {
   bool level2ChromaPasses(std::uint32_t entry, std::size_t t) const {
     for (int r = 0; r < kBtfRingCount; ++r) {
       const std::size_t k = t * kBtfRingCount + std::size_t(r);
-      if (norms_[k] > 0 && !chromaClose(out_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)], chroma_[k]))
-        return false;
+      if (!(norms_[k] > 0)) continue;
+      const std::uint32_t c = out_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)];
+      if (c != chroma_[k] && !chromaPasses(c, t, r)) return false;
     }
     return true;
   }
@@ -395,9 +471,12 @@ class Compressor {
       const float s = decodeVqScale(view_scale_[k]);
       const std::uint32_t a = view_index_[k], b = out_.l3_index[std::size_t(entry) * kBtfDirectionCount + std::size_t(v)];
       if (s > 0)
-        for (int r = 0; r < kBtfRingCount; ++r)
-          if (!chromaClose(out_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)], view_chroma_[k * kBtfRingCount + std::size_t(r)]))
+        for (int r = 0; r < kBtfRingCount; ++r) {
+          const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
+          const std::uint32_t c = out_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
+          if (own != kNoChroma && c != own && c != out_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
             return std::nullopt;
+        }
       if (s == 0 || q[v] == 0) continue;
       const double ab = a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
       xy += double(s) * q[v] * ab;
@@ -490,10 +569,9 @@ class Compressor {
   std::vector<Codebook> l1_;
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;
-  std::unordered_map<std::int64_t, std::uint32_t> chroma_map_;
+  std::vector<Codebook> chroma_books_;  // per ring, decoded chroma functions (2 n values)
   // Per view (level 1 -> level 2).
-  std::vector<float> units_, norms_, slices_, slice_norm_;
-  std::vector<std::int32_t> grid_;
+  std::vector<float> units_, norms_, slices_, slice_norm_, cfun_;
   std::vector<std::uint32_t> chroma_, entries_;
   std::vector<std::uint16_t> scales_;
   // Per (texel, view) for level 3.

@@ -47,15 +47,27 @@ void VqBtf::Impl::prepare(const std::string& what) {
     if (l1[std::size_t(r)].size() % std::size_t(btfRingSize(r)) != 0)
       throw Error(what + ": level-1 codebook of ring " + std::to_string(r) + " has a partial entry");
   }
-  if (chroma_grid.empty() || chroma_grid.size() % 2 != 0) throw Error(what + ": the chromaticity codebook is empty");
-  // Level-1 indices live where the level below the top stream is.
-  auto checkL1 = [&](const std::vector<std::uint32_t>& idx, const std::string& stream) {
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const auto& c = chroma[std::size_t(r)];
+    if (c.empty() || c.size() % (2 * std::size_t(btfRingSize(r))) != 0)
+      throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " is empty or has a partial entry");
+    for (std::int32_t g : c)
+      if (g < 0) throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " holds a negative value");
+  }
+  // Level-1 and chroma indices live where the level below the top stream is, one per ring.
+  auto checkPerRing = [&](const std::vector<std::uint32_t>& idx, const std::string& stream, auto count) {
     for (std::size_t i = 0; i < idx.size(); ++i) {
       const int r = int(i % kBtfRingCount);
-      if (idx[i] >= l1Count(r))
+      if (idx[i] >= count(r))
         throw Error(what + ": " + stream + " index " + std::to_string(idx[i]) + " of ring " + std::to_string(r) +
-                    " is outside its codebook of " + std::to_string(l1Count(r)) + " entries");
+                    " is outside its codebook of " + std::to_string(count(r)) + " entries");
     }
+  };
+  auto checkL1 = [&](const std::vector<std::uint32_t>& idx, const std::string& stream) {
+    checkPerRing(idx, stream, [&](int r) { return l1Count(r); });
+  };
+  auto checkChroma = [&](const std::vector<std::uint32_t>& idx, const std::string& stream) {
+    checkPerRing(idx, stream, [&](int r) { return chromaCount(r); });
   };
   if (options.levels == 1) {
     const std::size_t n = T * kBtfDirectionCount * kBtfRingCount;
@@ -63,14 +75,14 @@ void VqBtf::Impl::prepare(const std::string& what) {
     checkSize(top_scale.size(), n, what, "top/scale");
     checkSize(top_chroma.size(), n, what, "top/chroma");
     checkL1(top_index, "top/index");
-    checkIndices(top_chroma, chromaCount(), what, "top/chroma");
+    checkChroma(top_chroma, "top/chroma");
   } else {
     if (l2_index.empty()) throw Error(what + ": the level-2 codebook is empty");
     checkSize(l2_scale.size(), l2_index.size(), what, "level2/scale");
     checkSize(l2_chroma.size(), l2_index.size(), what, "level2/chroma");
     if (l2_index.size() % kBtfRingCount != 0) throw Error(what + ": the level-2 codebook has a partial entry");
     checkL1(l2_index, "level2/index");
-    checkIndices(l2_chroma, chromaCount(), what, "level2/chroma");
+    checkChroma(l2_chroma, "level2/chroma");
     if (options.levels == 2) {
       checkSize(top_index.size(), T * kBtfDirectionCount, what, "top/index");
       checkSize(top_scale.size(), T * kBtfDirectionCount, what, "top/scale");
@@ -99,12 +111,17 @@ void VqBtf::Impl::prepare(const std::string& what) {
       sum[e] = float(buildCdf1D(std::span<const float>(&values[e * n], n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
     }
   }
-  chroma_rgb.resize(chromaCount() * 3);
-  for (std::size_t c = 0; c < chromaCount(); ++c) {
-    const float cr = float(chroma_grid[2 * c]) * options.chroma_epsilon, cb = float(chroma_grid[2 * c + 1]) * options.chroma_epsilon;
-    chroma_rgb[3 * c] = std::max(cr, 0.0f);
-    chroma_rgb[3 * c + 1] = std::max((1.0f - 0.2126f * cr - 0.0722f * cb) / 0.7152f, 0.0f);
-    chroma_rgb[3 * c + 2] = std::max(cb, 0.0f);
+  const float step = vqChromaStep(options.chroma_epsilon);
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const auto& grid = chroma[std::size_t(r)];
+    auto& rgb = chroma_rgb[std::size_t(r)];
+    rgb.resize(grid.size() / 2 * 3);
+    for (std::size_t c = 0; c < grid.size() / 2; ++c) {
+      const float cr = float(grid[2 * c]) * step, cb = float(grid[2 * c + 1]) * step;
+      rgb[3 * c] = cr;
+      rgb[3 * c + 1] = std::max((1.0f - 0.2126f * cr - 0.0722f * cb) / 0.7152f, 0.0f);
+      rgb[3 * c + 2] = cb;
+    }
   }
   auto decode = [](const std::vector<std::uint16_t>& codes, std::vector<float>& out) {
     out.resize(codes.size());
@@ -127,8 +144,9 @@ Rgb VqBtf::value(int x, int y, int view, int light) const {
   const int ring = kLights.ring[std::size_t(light)];
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
   const Impl::RingCode code = m.ringCode(t, view, ring);
-  const float lum = code.scale * m.l1_values[std::size_t(ring)][std::size_t(code.entry) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)]];
-  const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+  const std::size_t a = std::size_t(code.entry) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)];
+  const float lum = code.scale * m.l1_values[std::size_t(ring)][a];
+  const float* c = &m.chroma_rgb[std::size_t(ring)][(std::size_t(code.chroma) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)]) * 3];
   return {lum * c[0], lum * c[1], lum * c[2]};
 }
 
@@ -143,10 +161,10 @@ void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
         const Impl::RingCode code = m.ringCode(t, view, r);
         const int n = btfRingSize(r), start = btfRingStart(r);
         const float* e = &m.l1_values[std::size_t(r)][std::size_t(code.entry) * std::size_t(n)];
-        const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+        const float* c = &m.chroma_rgb[std::size_t(r)][std::size_t(code.chroma) * std::size_t(n) * 3];
         for (int a = 0; a < n; ++a) {
           const float lum = code.scale * e[a];
-          out[std::size_t(start + a) * T + t] = Rgb(lum * c[0], lum * c[1], lum * c[2]);
+          out[std::size_t(start + a) * T + t] = Rgb(lum * c[3 * a], lum * c[3 * a + 1], lum * c[3 * a + 2]);
         }
       }
   });
@@ -160,10 +178,9 @@ Rgb VqBtf::weightedSum(int x, int y, const int* views, const int* lights, const 
   for (int k = 0; k < count; ++k) {
     const int ring = kLights.ring[std::size_t(lights[k])];
     const Impl::RingCode code = m.ringCode(t, views[k], ring);
-    const float lum = weights[k] * code.scale *
-                      m.l1_values[std::size_t(ring)][std::size_t(code.entry) * std::size_t(btfRingSize(ring)) +
-                                                     kLights.azimuth[std::size_t(lights[k])]];
-    const float* c = &m.chroma_rgb[std::size_t(code.chroma) * 3];
+    const std::size_t n = std::size_t(btfRingSize(ring)), a = kLights.azimuth[std::size_t(lights[k])];
+    const float lum = weights[k] * code.scale * m.l1_values[std::size_t(ring)][std::size_t(code.entry) * n + a];
+    const float* c = &m.chroma_rgb[std::size_t(ring)][(std::size_t(code.chroma) * n + a) * 3];
     r += lum * c[0];
     g += lum * c[1];
     b += lum * c[2];

@@ -27,6 +27,10 @@ inline float decodeVqScale(std::uint16_t q) { return q == 0 ? 0.0f : float(std::
 inline std::uint16_t encodeVqEntryValue(float v) { return std::uint16_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 65535.0f)); }
 inline float decodeVqEntryValue(std::uint16_t q) { return float(q) / 65535.0f; }
 
+// Chromaticity grid step: a quarter of the tolerance, so that quantizing a new entry costs at most
+// chroma_epsilon / 8 per component (always within its own tolerance).
+inline float vqChromaStep(float chroma_epsilon) { return 0.25f * chroma_epsilon; }
+
 struct VqBtf::Impl {
   int width = 0, height = 0;
   std::string name;
@@ -35,8 +39,9 @@ struct VqBtf::Impl {
 
   // Level 1: per ring, entries of btfRingSize(ring) values (ring 0: the single entry {1}).
   std::array<std::vector<std::uint16_t>, kBtfRingCount> l1;
-  // Chromaticity codebook: grid coordinates (i, j) of (R/Y, B/Y) = (i, j) * chroma_epsilon.
-  std::vector<std::int32_t> chroma_grid;  // pairs
+  // Chromaticity codebooks, per ring: entries of btfRingSize(ring) pairs (i, j), the grid
+  // coordinates of (R/Y, B/Y) = (i, j) * vqChromaStep(chroma_epsilon) at each light azimuth.
+  std::array<std::vector<std::int32_t>, kBtfRingCount> chroma;
   // Level 2 entries (levels >= 2): kBtfRingCount codes per entry.
   std::vector<std::uint32_t> l2_index, l2_chroma;
   std::vector<std::uint16_t> l2_scale;
@@ -50,19 +55,20 @@ struct VqBtf::Impl {
 
   // Decoded tables (prepare()).
   std::array<std::vector<float>, kBtfRingCount> l1_values, l1_cdf, l1_sum;
-  std::vector<float> chroma_rgb;  // per chroma entry, RGB = luminance * (r, g, b)
+  // Per ring and chroma entry, btfRingSize(ring) triples (r, g, b): RGB = luminance * (r, g, b).
+  std::array<std::vector<float>, kBtfRingCount> chroma_rgb;
   std::vector<float> l2_scale_f, l3_scale_f, top_scale_f;
 
   std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(btfRingSize(ring)); }
   std::size_t l2Count() const { return l2_index.size() / kBtfRingCount; }
   std::size_t l3Count() const { return l3_index.size() / kBtfDirectionCount; }
-  std::size_t chromaCount() const { return chroma_grid.size() / 2; }
+  std::size_t chromaCount(int ring) const { return chroma[std::size_t(ring)].size() / (2 * std::size_t(btfRingSize(ring))); }
 
   // Checks that every index is inside its codebook and the streams have their sizes (throws
   // btf::Error with `what` prefixed), then builds the decoded tables.
   void prepare(const std::string& what);
 
-  // Level-1 code (entry, scale, chroma) of texel t, view v, ring r.
+  // Level-1 code (entry, scale, chroma entry of ring r) of texel t, view v, ring r.
   struct RingCode {
     std::uint32_t entry;
     float scale;

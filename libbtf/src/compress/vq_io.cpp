@@ -1,4 +1,4 @@
-// VqBtf in .btfz (io/container.h). Sections: "header" (JSON), "level1/ring<r>", "chroma",
+// VqBtf in .btfz (io/container.h). Sections: "header" (JSON), "level1/ring<r>", "chroma/ring<r>",
 // "level2/{index,scale,chroma}", "level3/{index,scale}", "top/{index,scale,chroma}" (those the level
 // count uses). Integer streams are stored byte-planar (all lowest bytes, then the next...) in the
 // fewest bytes their largest value needs (the first byte of a section says how many): indices into
@@ -65,6 +65,10 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   header["chroma_epsilon"] = m.options.chroma_epsilon;
   header["energy_floor"] = m.options.energy_floor;
   header["codebook_entries"] = m.stats.codebook_entries;
+  std::vector<std::size_t> chroma_entries;
+  for (int r = 0; r < kBtfRingCount; ++r) chroma_entries.push_back(m.chromaCount(r));
+  header["chroma_entries"] = chroma_entries;  // per ring, informative (the sections are authoritative)
+  header["chroma_step"] = vqChromaStep(m.options.chroma_epsilon);
   std::vector<ContainerSection> sections;
   auto add = [&](SectionType type, std::string name, std::vector<std::byte> data) {
     ContainerSection s;
@@ -80,7 +84,8 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   add(SectionType::Header, "header", std::move(bytes));
   for (int r = 0; r < kBtfRingCount; ++r)
     add(SectionType::Codebook, "level1/ring" + std::to_string(r), packPlanar(m.l1[std::size_t(r)]));
-  add(SectionType::Codebook, "chroma", packPlanar(m.chroma_grid));
+  for (int r = 0; r < kBtfRingCount; ++r)
+    add(SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
   if (m.options.levels >= 2) {
     add(SectionType::Codebook, "level2/index", packPlanar(m.l2_index));
     add(SectionType::Codebook, "level2/scale", packPlanar(m.l2_scale));
@@ -166,7 +171,8 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
   if (!(m->options.chroma_epsilon > 0.0f)) throw FileError(path, "VQ header has an invalid chroma_epsilon");
   for (int r = 0; r < kBtfRingCount; ++r)
     m->l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(section(sections, "level1/ring" + std::to_string(r), path), path);
-  m->chroma_grid = unpackPlanar<std::int32_t>(section(sections, "chroma", path), path);
+  for (int r = 0; r < kBtfRingCount; ++r)
+    m->chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(section(sections, "chroma/ring" + std::to_string(r), path), path);
   if (m->options.levels >= 2) {
     m->l2_index = unpackPlanar<std::uint32_t>(section(sections, "level2/index", path), path);
     m->l2_scale = unpackPlanar<std::uint16_t>(section(sections, "level2/scale", path), path);

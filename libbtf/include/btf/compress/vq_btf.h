@@ -7,7 +7,8 @@
 // entry is reused when within the tolerance, else the function becomes a new entry.
 // Level 2: the (index, scale) vectors of one 2D light slice (fixed texel and view) are quantized
 // again; level 3: the vectors of a texel's slices over all views. Colour: luminance goes through
-// the levels above; chromaticity is quantized separately and coarsely (it varies little).
+// the levels above; chromaticity (R/Y, B/Y) per light, as one 1D function per ring (2 x n values),
+// goes through its own per-ring codebook (few materials: its functions repeat).
 // TBB parallel where it does not change the result: the output is identical for any thread count.
 //
 // The compressed form decodes any entry on its own (value()), so BtfMaterial evaluates straight
@@ -38,14 +39,18 @@ namespace btf {
 //   adds a relative RMS error <= e = epsilon sqrt(1 + energy_floor^2), and the luminance rel_rmse
 //   is <= (1 + e)^levels - 1, plus the quantization of new entries' values (16-bit) and of scales
 //   (16-bit log2, step 1/1024: <= 0.034 %). energy_floor = 0 makes the bound per vector.
-// - Chromaticity c = (R / Y, B / Y) of each ring's 1D function (the energy-weighted mean over the
-//   ring) is quantized on a grid of step chroma_epsilon; G follows from Y. An entry of level 2 or
-//   3 is reused only when each ring's chromaticity lies within one grid step (per component) of
-//   the data's own quantized chromaticity: the error of c is <= 1.5 chroma_epsilon per component
-//   (plus the variation of c within a ring, which this scheme does not represent).
+// - Chromaticity c_a = (R / Y, B / Y) at each light azimuth a of a ring (where Y = 0, the ring's
+//   mean; G follows from Y) forms a chroma function per ring; its codebook entry (one per ring,
+//   carried by the level-1 code or the level-2 entry) is reused only when the luminance-weighted
+//   error sum_a Y_a^2 |c'_a - c_a|^2 <= chroma_epsilon^2 sum_a Y_a^2 (absolute: c is already
+//   normalized), checked against the data at level 1 and 2; level 3 keeps a ring's chroma entry
+//   only when it is one of those two checked ones. New entries are stored on a grid of step
+//   chroma_epsilon / 4 (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2 |dc|^2
+//   and |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is <= kmax / 1.334 * L + 0.786 chroma_epsilon,
+//   with L the luminance rel_rmse and kmax the largest |RGB| / Y of the decoded data.
 struct VqOptions {
   float epsilon = 0.02f;         // relative L2 tolerance per level (see above); 0: near-lossless
-  float chroma_epsilon = 0.01f;  // grid step of the chromaticity (R/Y, B/Y); > 0
+  float chroma_epsilon = 0.01f;  // absolute tolerance of the chromaticity (R/Y, B/Y) (see above); > 0
   float energy_floor = 1.0f;     // >= 0: the absolute floor of the tolerance, in batch RMS norms
   int levels = 3;                // 1, 2 or 3
   int threads = 0;               // 0: TBB's default; the output does not depend on it

@@ -1,0 +1,114 @@
+// `btf compress`, `btf decompress`, `btf info` on BTFs and `btf bench compression`: the reported
+// figures are those of the written file (recomputed here independently), decompression gives back
+// what the file decodes to, and bad inputs fail clearly without leaving an output behind.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "btf/compress/vq_btf.h"
+#include "btf/io/btf_images.h"
+#include "cli_test_support.h"
+
+namespace btf::test {
+namespace {
+using testing::HasSubstr;
+namespace fs = std::filesystem;
+
+TEST(CompressCli, FolderRoundTripReportsTheFilesOwnErrorAndRatio) {
+  TempDir dir;
+  const fs::path folder = dir / "stones", packed = dir / "stones.btfz", unpacked = dir / "unpacked";
+  ASSERT_EQ(runDatagen({"btf", "--pattern", "stones", "--size", "8", "--seed", "3", "--format", "exr", "-o",
+                        folder.string()}).exit_code, 0);
+  const CommandResult c = runBtf({"compress", folder.string(), packed.string(), "--epsilon", "0.05", "--json"});
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const nlohmann::json report = parseJsonOutput(c);
+  const BtfImageFolder source = BtfImageFolder::open(folder);
+  const VqBtf vq = VqBtf::read(packed);
+  const double bytes = double(fs::file_size(packed));
+  EXPECT_EQ(report["bytes"].get<double>(), bytes);
+  EXPECT_NEAR(report["ratio_u8"].get<double>(), 8.0 * 8 * 81 * 81 * 3 / bytes, 1e-9);
+  EXPECT_NEAR(report["ratio_f32"].get<double>(), 4.0 * report["ratio_u8"].get<double>(), 1e-9);
+  const BtfErrorStats e = compareBtf(source, vq);
+  EXPECT_NEAR(report["rel_rmse"].get<double>(), e.rel_rmse, 1e-12);
+  EXPECT_GT(e.rel_rmse, 0.0) << "a lossy setting loses something";
+
+  const CommandResult info = runBtf({"info", packed.string(), "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  const nlohmann::json facts = parseJsonOutput(info);
+  EXPECT_EQ(facts["bytes"].get<double>(), bytes);
+  EXPECT_EQ(facts["codebook_entries"], report["codebook_entries"]);
+  EXPECT_EQ(facts["texels"], nlohmann::json({8, 8}));
+
+  const CommandResult d = runBtf({"decompress", packed.string(), unpacked.string(), "--format", "exr"});
+  ASSERT_EQ(d.exit_code, 0) << d.output;
+  const BtfErrorStats back = compareBtf(vq, BtfImageFolder::open(unpacked));
+  EXPECT_LE(back.rel_rmse, 1e-6) << "the folder holds what the file decodes to";
+}
+
+TEST(CompressCli, ABrdfFileIsCompressedAsAOneTexelBtf) {
+  TempDir dir;
+  const fs::path brdf = dir / "plastic.binary", packed = dir / "plastic.btfz";
+  ASSERT_EQ(runDatagen({"--preset", "plastic-red", "--clean", "-o", brdf.string()}).exit_code, 0);
+  const CommandResult c = runBtf({"compress", brdf.string(), packed.string(), "--json"});
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const nlohmann::json report = parseJsonOutput(c);
+  EXPECT_EQ(report["texels"], nlohmann::json({1, 1}));
+  EXPECT_THAT(report["input_kind"].get<std::string>(), HasSubstr("one-texel"));
+  EXPECT_LT(report["bytes"].get<double>(), 81.0 * 81 * 12) << "smaller than the raw float data";
+}
+
+TEST(CompressCli, BadInputsFailNamingTheFileAndLeaveNoOutput) {
+  TempDir dir;
+  const fs::path brdf = dir / "white.binary", packed = dir / "white.btfz";
+  ASSERT_EQ(runDatagen({"--preset", "white-diffuse", "--clean", "-o", brdf.string()}).exit_code, 0);
+  ASSERT_EQ(runBtf({"compress", brdf.string(), packed.string()}).exit_code, 0);
+  const std::string bytes = readBytes(packed);
+  const fs::path truncated = dir / "truncated.btfz", flipped = dir / "flipped.btfz";
+  std::ofstream(truncated, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+  std::string changed = bytes;
+  changed[changed.size() - 3] = char(changed[changed.size() - 3] ^ 0x40);
+  std::ofstream(flipped, std::ios::binary).write(changed.data(), std::streamsize(changed.size()));
+
+  struct Case {
+    std::vector<std::string> args;
+    std::string named, problem;
+    fs::path must_not_exist;
+  };
+  const std::vector<Case> cases{
+      {{"compress", (dir / "missing").string(), (dir / "a.btfz").string()}, "missing", "no such", dir / "a.btfz"},
+      {{"compress", brdf.string(), (dir / "b.bin").string()}, "b.bin", ".btfz", dir / "b.bin"},
+      {{"compress", packed.string(), (dir / "c.btfz").string()}, "white.btfz", "already compressed", dir / "c.btfz"},
+      {{"info", truncated.string()}, "truncated.btfz", "truncated", {}},
+      {{"info", flipped.string()}, "flipped.btfz", "checksum", {}},
+      {{"decompress", truncated.string(), (dir / "out").string()}, "truncated.btfz", "truncated", dir / "out"},
+      {{"decompress", brdf.string(), (dir / "out2").string()}, "white.binary", ".btfz", dir / "out2"},
+  };
+  for (const Case& k : cases) {
+    const CommandResult r = runBtf(k.args);
+    EXPECT_NE(r.exit_code, 0) << k.args[0] << ' ' << k.args[1];
+    EXPECT_THAT(r.output, HasSubstr(k.named)) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(k.problem)) << r.output;
+    EXPECT_LT(r.exit_code, 128) << "no crash: " << r.output;
+    if (!k.must_not_exist.empty()) {
+      EXPECT_FALSE(fs::exists(k.must_not_exist)) << k.must_not_exist;
+    }
+  }
+}
+
+TEST(BenchCompression, QuickRunWritesBothCsvFilesWithVqAndPcaRows) {
+  TempDir dir;
+  const fs::path out = dir / "bench";
+  const CommandResult r = runBtf({"bench", "compression", "--quick", "-o", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string csv = readBytes(out / "compression.csv");
+  EXPECT_THAT(csv, HasSubstr("method,material,texels,epsilon,levels,components,bytes,ratio_u8,ratio_f32,rel_rmse,psnr_db"));
+  EXPECT_THAT(csv, HasSubstr("\nvq,fabric,64,"));
+  EXPECT_THAT(csv, HasSubstr("\npca,fabric,64,"));
+  const std::string brdfs = readBytes(out / "brdf_compression.csv");
+  EXPECT_THAT(brdfs, HasSubstr("plastic-red,"));
+  EXPECT_THAT(r.output, HasSubstr("Bagher"));
+}
+
+}  // namespace
+}  // namespace btf::test
