@@ -17,6 +17,7 @@
 #include "btf/core/progress.h"
 #include "btf/sampling/chi2.h"
 #include "btf/sampling/quadtree_sampler.h"
+#include "comma_list.h"
 #include "commands.h"
 #include "sampler_choice.h"
 #include "sampling_charts.h"
@@ -82,15 +83,6 @@ std::vector<Setting> settingsFor(const BenchSizes& sizes) {
   return settings;
 }
 
-std::vector<std::string> splitList(const std::string& list) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
 SamplingRow measure(const BenchMaterial& m, const Setting& setting, const BenchSizes& sizes, const glm::vec3& wo,
                     double reference, std::uint64_t seed) {
   SamplerOptions options = sizes.tables;
@@ -136,7 +128,7 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const BenchS
 }
 
 void runBenchSampling(const BenchOptions& o) {
-  const std::vector<std::string> names = o.materials.empty() ? defaultBenchMaterialNames(o.quick) : splitList(o.materials);
+  const std::vector<std::string> names = o.materials.empty() ? defaultBenchMaterialNames(o.quick) : splitCommaList(o.materials);
   if (names.empty()) throw Error("--materials lists no material");
   if (!(o.theta_o >= 0.0f && o.theta_o < 90.0f)) throw Error("--theta-o must be in [0, 90) degrees");
   const std::filesystem::path folder = o.output;

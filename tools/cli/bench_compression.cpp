@@ -23,6 +23,7 @@
 #include "btf/io/atomic_file.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf_input.h"
+#include "comma_list.h"
 #include "gnuplot_charts.h"
 #include "presets.h"
 #include "synthetic_btf.h"
@@ -50,15 +51,6 @@ struct Row {
   std::uint64_t bytes = 0;
   double ratio_u8 = 0, ratio_f32 = 0, rel_rmse = 0, psnr_db = 0, compression_s = 0, evals_per_s = 0;
 };
-
-std::vector<std::string> splitList(const std::string& list) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -237,7 +229,7 @@ void benchBrdfs(const std::filesystem::path& folder, float epsilon, bool quick) 
 
 void runBenchCompression(const Args& args) {
   std::filesystem::create_directories(args.output);
-  std::vector<std::string> patterns = splitList(args.patterns);
+  std::vector<std::string> patterns = splitCommaList(args.patterns);
   std::vector<float> epsilons = args.epsilons;
   std::vector<int> levels = args.levels;
   int size = args.size;

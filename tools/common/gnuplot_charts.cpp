@@ -61,6 +61,7 @@ GnuplotOutcome drawGnuplotCharts(const std::filesystem::path& folder, const std:
       script << "reset\nset datafile missing '?'\nset grid\nset key outside right top noenhanced\n"
              << (png ? (cairo ? "set terminal pngcairo size 1200,700 font 'DejaVu Sans,11'\n" : "set terminal png size 1200,700\n")
                      : "set terminal svg size 1200,700 font 'DejaVu Sans,11'\n")
+             << "set termoption noenhanced\n"  // names like rel_rmse print as written, not as subscripts
              << "set output " << gnuplotQuote(temporary.string()) << '\n'
              << c.body << "unset output\n";
       renames.emplace_back(temporary, final_path);
