@@ -43,31 +43,32 @@ SyntheticBtf::SyntheticBtf(Microgeometry geometry, std::string name, SyntheticBt
   step_ = 0.5f * spacing;
 }
 
-float SyntheticBtf::heightAt(float x, float y) const {
+// The grid samples around a texel-space point (periodic) and its bilinear weights.
+SyntheticBtf::GridCell SyntheticBtf::cellAt(float x, float y) const {
   const int gw = geometry_.gridWidth(), gh = geometry_.gridHeight();
   const float u = x * float(geometry_.samples_per_texel) - 0.5f, v = y * float(geometry_.samples_per_texel) - 0.5f;
   const float fu = std::floor(u), fv = std::floor(v);
-  const float tu = u - fu, tv = v - fv;
-  const int x0 = wrapIndex(int(fu), gw), y0 = wrapIndex(int(fv), gh);
-  const int x1 = x0 + 1 == gw ? 0 : x0 + 1, y1 = y0 + 1 == gh ? 0 : y0 + 1;
-  const float* h = geometry_.heights.data();
-  const std::size_t r0 = std::size_t(y0) * std::size_t(gw), r1 = std::size_t(y1) * std::size_t(gw);
-  const float a = h[r0 + std::size_t(x0)] + (h[r0 + std::size_t(x1)] - h[r0 + std::size_t(x0)]) * tu;
-  const float b = h[r1 + std::size_t(x0)] + (h[r1 + std::size_t(x1)] - h[r1 + std::size_t(x0)]) * tu;
-  return a + (b - a) * tv;
+  GridCell c;
+  c.tu = u - fu, c.tv = v - fv;
+  c.x0 = wrapIndex(int(fu), gw), c.y0 = wrapIndex(int(fv), gh);
+  c.x1 = c.x0 + 1 == gw ? 0 : c.x0 + 1, c.y1 = c.y0 + 1 == gh ? 0 : c.y0 + 1;
+  return c;
+}
+
+float SyntheticBtf::heightAt(float x, float y) const {
+  const GridCell c = cellAt(x, y);
+  auto h = [&](int gx, int gy) { return geometry_.heights[geometry_.gridIndex(gx, gy)]; };
+  const float a = h(c.x0, c.y0) + (h(c.x1, c.y0) - h(c.x0, c.y0)) * c.tu;
+  const float b = h(c.x0, c.y1) + (h(c.x1, c.y1) - h(c.x0, c.y1)) * c.tu;
+  return a + (b - a) * c.tv;
 }
 
 glm::vec2 SyntheticBtf::gradientAt(float x, float y) const {
-  const int gw = geometry_.gridWidth(), gh = geometry_.gridHeight();
-  const float u = x * float(geometry_.samples_per_texel) - 0.5f, v = y * float(geometry_.samples_per_texel) - 0.5f;
-  const float fu = std::floor(u), fv = std::floor(v);
-  const float tu = u - fu, tv = v - fv;
-  const int x0 = wrapIndex(int(fu), gw), y0 = wrapIndex(int(fv), gh);
-  const int x1 = x0 + 1 == gw ? 0 : x0 + 1, y1 = y0 + 1 == gh ? 0 : y0 + 1;
+  const GridCell c = cellAt(x, y);
   auto g = [&](int gx, int gy) { return gradients_[geometry_.gridIndex(gx, gy)]; };
-  const glm::vec2 a = g(x0, y0) + (g(x1, y0) - g(x0, y0)) * tu;
-  const glm::vec2 b = g(x0, y1) + (g(x1, y1) - g(x0, y1)) * tu;
-  return a + (b - a) * tv;
+  const glm::vec2 a = g(c.x0, c.y0) + (g(c.x1, c.y0) - g(c.x0, c.y0)) * c.tu;
+  const glm::vec2 b = g(c.x0, c.y1) + (g(c.x1, c.y1) - g(c.x0, c.y1)) * c.tu;
+  return a + (b - a) * c.tv;
 }
 
 std::size_t SyntheticBtf::nearestSample(float x, float y) const {

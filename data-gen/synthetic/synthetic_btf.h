@@ -47,6 +47,11 @@ class SyntheticBtf final : public BtfSource {
   glm::vec3 viewHit(int x, int y, const glm::vec3& wo) const;
 
  private:
+  struct GridCell {
+    int x0, y0, x1, y1;
+    float tu, tv;
+  };
+  GridCell cellAt(float x, float y) const;
   float heightAt(float x, float y) const;            // bilinear, periodic (texel units)
   glm::vec2 gradientAt(float x, float y) const;      // bilinear of the sample gradients
   std::size_t nearestSample(float x, float y) const;
