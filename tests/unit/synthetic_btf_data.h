@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "btf/core/btf_directions.h"
 #include "btf/io/btf_data.h"
@@ -35,5 +36,15 @@ inline BtfData makeAnalyticBtf(int width, int height, bool specular = true, std:
     }
   return data;
 }
+
+// A source whose views are shorter than width x height x 81 (a faulty reader): consumers must
+// reject it rather than read past the end of its views.
+class ShortViewSource final : public BtfSource {
+ public:
+  int width() const override { return 2; }
+  int height() const override { return 2; }
+  std::string name() const override { return "short-views"; }
+  void loadView(int, std::vector<Rgb>& out) const override { out.assign(10, Rgb(1.0f)); }
+};
 
 }  // namespace btf::test

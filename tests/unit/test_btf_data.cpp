@@ -159,20 +159,11 @@ TEST(CompareBtf, ScaleErrorGivesKnownRelRmseAndPsnr) {
   EXPECT_NEAR(compareBtf(test_data, reference).rel_rmse, e / (1 + e), 1e-5);
 }
 
-// A source whose views are shorter than width x height x 81 (a faulty reader).
-class ShortViewSource final : public BtfSource {
- public:
-  int width() const override { return 2; }
-  int height() const override { return 2; }
-  std::string name() const override { return "short-views"; }
-  void loadView(int, std::vector<Rgb>& out) const override { out.assign(10, Rgb(1.0f)); }
-};
-
 TEST(BtfData, ViewsOfTheWrongLengthAreRejectedNotOverrun) {
   const BtfData good = test::makeAnalyticBtf(2, 2, false);
-  EXPECT_THROW(BtfData::copyOf(ShortViewSource()), Error);
-  EXPECT_THROW(compareBtf(good, ShortViewSource()), Error);
-  EXPECT_THROW(compareBtf(ShortViewSource(), good), Error);
+  EXPECT_THROW(BtfData::copyOf(test::ShortViewSource()), Error);
+  EXPECT_THROW(compareBtf(good, test::ShortViewSource()), Error);
+  EXPECT_THROW(compareBtf(test::ShortViewSource(), good), Error);
 }
 
 TEST(CompareBtf, MismatchedSizesAndZeroReferenceThrow) {

@@ -34,15 +34,6 @@ class CountingSource final : public BtfSource {
   mutable bool concurrent_ = false;
 };
 
-// A source whose views have the wrong length.
-class ShortViewSource final : public BtfSource {
- public:
-  int width() const override { return 2; }
-  int height() const override { return 2; }
-  std::string name() const override { return "short-views"; }
-  void loadView(int, std::vector<Rgb>& out) const override { out.assign(10, Rgb(1.0f)); }
-};
-
 BtfData scaled(const BtfData& data, float factor) {
   BtfData out(data.width(), data.height(), data.name());
   for (int v = 0; v < kBtfDirectionCount; ++v)
@@ -224,7 +215,7 @@ TEST(Pca, RejectsBadComponentCountsAndBadSources) {
   const BtfData data = test::makeAnalyticBtf(2, 2, false);
   EXPECT_THROW(compressPca(data, -1), Error);
   EXPECT_THROW(compressPca(data, kPcaDimension + 1), Error);
-  EXPECT_THROW(compressPca(ShortViewSource(), 2), Error);
+  EXPECT_THROW(compressPca(test::ShortViewSource(), 2), Error);
 }
 
 TEST(Pca, ConstantBtfIsExactWithTheMeanAlone) {
