@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include <memory>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -130,6 +131,35 @@ void runFull(benchmark::State& state, const btf::BinnedSampler& s) {
   report(state, s);
 }
 
+// The stream calls (binned_sampler.h): "stream" = sampleDirections then pdfs of the drawn wi,
+// "stream_direction" = sampleDirections alone (it returns the pdf), over blocks of 256 queries with
+// random wo (a wavefront renderer's batch); items = queries.
+constexpr std::size_t kStreamBlock = 256;
+void runStream(benchmark::State& state, const btf::BinnedSampler& s, bool with_pdf) {
+  const auto& q = fixture().queries;
+  std::vector<glm::vec3> wo(q.size());
+  std::vector<glm::vec2> u(q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) wo[k] = q[k].wo, u[k] = q[k].u;
+  std::vector<btf::BinnedSampler::DirectionSample> out(kStreamBlock);
+  std::vector<glm::vec3> wi(kStreamBlock);
+  std::vector<float> pdf(kStreamBlock);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::span<const glm::vec3> wo_block(wo.data() + i, kStreamBlock);
+    s.sampleDirections(wo_block, std::span(u.data() + i, kStreamBlock), out);
+    if (with_pdf) {
+      for (std::size_t k = 0; k < kStreamBlock; ++k) wi[k] = out[k].wi;
+      s.pdfs(wi, wo_block, pdf);
+      benchmark::DoNotOptimize(pdf.data());
+    }
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+    i = (i + kStreamBlock) & (q.size() - 1);
+  }
+  report(state, s);
+  state.SetItemsProcessed(std::int64_t(state.iterations() * kStreamBlock));
+}
+
 // Samplers are built on first use (the MERL-size ones take a second or two each).
 const btf::BinnedSampler& sampler(btf::SamplerKind kind, bool merl, float epsilon) {
   static std::vector<std::pair<std::tuple<int, bool, float>, std::unique_ptr<btf::BinnedSampler>>> cache;
@@ -152,6 +182,12 @@ void BM_DirectionOneWo(benchmark::State& state, btf::SamplerKind kind, bool merl
 void BM_PdfOnly(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
   runPdfOnly(state, sampler(kind, merl, epsilon));
 }
+void BM_Stream(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
+  runStream(state, sampler(kind, merl, epsilon), true);
+}
+void BM_StreamDirection(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
+  runStream(state, sampler(kind, merl, epsilon), false);
+}
 void BM_Full(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
   runFull(state, sampler(kind, merl, epsilon));
 }
@@ -167,6 +203,10 @@ BENCHMARK_CAPTURE(BM_DirectionOneWo, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_DirectionOneWo, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
 BENCHMARK_CAPTURE(BM_PdfOnly, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_PdfOnly, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
+BENCHMARK_CAPTURE(BM_Stream, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
+BENCHMARK_CAPTURE(BM_Stream, merl_dp_eps1e-2, K::DpCdf, true, 1e-2f);
+BENCHMARK_CAPTURE(BM_StreamDirection, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
+BENCHMARK_CAPTURE(BM_Stream, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
 BENCHMARK_CAPTURE(BM_Full, merl_quadtree, K::Quadtree, true, 0.0f);

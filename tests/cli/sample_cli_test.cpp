@@ -98,7 +98,7 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
   const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes", "samples_per_s",
                                             "chi2_statistic", "chi2_p", "variance", "seconds", "efficiency",
                                             "rel_error_vs_reference", "per_sample_variance", "full_cdf_bytes",
-                                            "acceptance_rate"};
+                                            "acceptance_rate", "stream_samples_per_s"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -118,6 +118,10 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
     const bool tables = sampler == "tabulated" || sampler == "dp-cdf" || sampler == "quadtree";
     EXPECT_EQ(rows[i][12].empty(), !tables) << "full_cdf_bytes of " << sampler;
     EXPECT_EQ(rows[i][13].empty(), sampler != "quadtree") << "acceptance_rate of " << sampler;
+    EXPECT_EQ(rows[i][14].empty(), !tables) << "stream_samples_per_s of " << sampler;
+    if (tables) {
+      EXPECT_GT(std::stod(rows[i][14]), 0.0) << "stream_samples_per_s of " << sampler;
+    }
     if (sampler == "quadtree") {
       EXPECT_GE(std::stod(rows[i][13]), 0.25) << "bilinear leaves accept at least a quarter";
       EXPECT_LE(std::stod(rows[i][13]), 1.0);
@@ -144,6 +148,27 @@ TEST(BenchSampling, UnknownMaterialIsAnError) {
                                   (dir / "b").string()});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("no-such-thing"), std::string::npos) << r.output;
+}
+
+TEST(BenchSampling, SweepsTheGivenEpsilonsAndThresholdsAndRejectsBadOnes) {
+  TempDir dir;
+  const auto out = dir / "b";
+  const CommandResult r = runBtf({"bench", "sampling", "--quick", "--epsilons", "0.02,0.005", "--thresholds", "3",
+                                  "-o", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<double> epsilons, thresholds;
+  for (const auto& row : readCsv(out / "sampling.csv")) {
+    if (row.size() > 2 && row[1] == "dp-cdf") epsilons.push_back(std::stod(row[2]));
+    if (row.size() > 2 && row[1] == "quadtree") thresholds.push_back(std::stod(row[2]));
+  }
+  EXPECT_EQ(epsilons, (std::vector<double>{0.02, 0.005}));
+  EXPECT_EQ(thresholds, (std::vector<double>{3.0}));
+  for (const char* bad : {"--epsilons=-0.1", "--thresholds=0.5"}) {
+    const CommandResult e = runBtf({"bench", "sampling", "--quick", bad, "-o", (dir / "c").string()});
+    EXPECT_NE(e.exit_code, 0) << bad;
+    const std::string option(bad, std::string(bad).find('='));  // the message names the option
+    EXPECT_NE(e.output.find(option), std::string::npos) << e.output;
+  }
 }
 
 }  // namespace

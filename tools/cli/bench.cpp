@@ -33,6 +33,7 @@ struct BenchOptions {
   bool quick = false;
   float theta_o = 30.0f;
   std::uint64_t seed = 1;
+  std::vector<float> epsilons, thresholds;  // empty: the sizes' defaults
 };
 
 // Work per row. The default keeps the whole run near two minutes on two cores; --quick is for tests.
@@ -59,7 +60,8 @@ BenchSizes sizesFor(bool quick) {
     // A quarter of the library's default outgoing bins: one wo is measured, and building the tables
     // for every bin would dominate the run.
     s.tables.theta_o_bins = 8;
-    s.epsilons = {1e-4f, 1e-3f, 1e-2f};
+    // Fine steps between 1e-3 and 1e-2, where the memory target's two conditions meet.
+    s.epsilons = {1e-4f, 1e-3f, 2e-3f, 3e-3f, 5e-3f, 1e-2f};
     s.thresholds = {2.0f, 8.0f};
     s.speed_draws = 100'000, s.estimate_draws = 50'000, s.chi2_draws = 100'000;
     // 768 x 1536 midpoints in (theta, phi), 0.1 deg apart: resolves the chrome preset's lobe.
@@ -99,6 +101,9 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const BenchS
     row.bytes = double(stats.bytes);
     row.full_cdf_bytes = double(stats.full_cdf_bytes);
     if (std::isfinite(stats.acceptance_rate)) row.acceptance_rate = stats.acceptance_rate;
+    for (int k = 0; k < kTimingRepeats; ++k)
+      row.stream_samples_per_s = std::max(row.stream_samples_per_s.value_or(0.0),
+                                          streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed));
   } else if (setting.choice != SamplerChoice::Own) {
     row.bytes = 0.0;  // a warp has no tables
   }
@@ -134,7 +139,13 @@ void runBenchSampling(const BenchOptions& o) {
   const std::filesystem::path folder = o.output;
   std::filesystem::create_directories(folder);
 
-  const BenchSizes sizes = sizesFor(o.quick);
+  BenchSizes sizes = sizesFor(o.quick);
+  if (!o.epsilons.empty()) sizes.epsilons = o.epsilons;
+  if (!o.thresholds.empty()) sizes.thresholds = o.thresholds;
+  for (float e : sizes.epsilons)
+    if (!(e >= 0.0f)) throw Error("--epsilons must be >= 0");
+  for (float t : sizes.thresholds)
+    if (!(t >= 1.0f) || !std::isfinite(t)) throw Error("--thresholds must be finite and >= 1");
   const std::vector<Setting> settings = settingsFor(sizes);
   const glm::vec3 wo = sphericalDirection(o.theta_o * kPi / 180.0f, 0.0f);
   std::vector<SamplingRow> rows;
@@ -185,6 +196,8 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_flag("--quick", o->quick, "Tiny tables and few draws (seconds; for tests)");
   cmd->add_option("--theta-o", o->theta_o, "Outgoing zenith angle of the measurement (deg)")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--epsilons", o->epsilons, "DP-CDF tolerances (default 1e-4,1e-3,2e-3,3e-3,5e-3,1e-2)")->delimiter(',');
+  cmd->add_option("--thresholds", o->thresholds, "Quadtree max/mean thresholds (default 2,8)")->delimiter(',');
   cmd->add_option("-o,--output", o->output, "Output folder (sampling.csv and the charts)")->required();
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);

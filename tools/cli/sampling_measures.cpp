@@ -111,4 +111,26 @@ double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint6
   return double(count) / std::max(seconds, 1e-9);
 }
 
+double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
+                              std::uint64_t seed) {
+  Rng rng(seed, 2);
+  constexpr std::size_t kBlock = 256;
+  const std::vector<glm::vec3> wos(kBlock, wo);
+  std::vector<glm::vec2> u(kBlock);
+  std::vector<BinnedSampler::DirectionSample> out(kBlock);
+  volatile float sink = 0;
+  float acc = 0;
+  double seconds = 0;
+  for (std::uint64_t done = 0; done < count; done += kBlock) {
+    for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
+    const auto start = Clock::now();
+    sampler.sampleDirections(wos, u, out);
+    seconds += secondsSince(start);
+    acc += out[done / kBlock % kBlock].pdf;
+  }
+  sink = acc;
+  (void)sink;
+  return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
+}
+
 }  // namespace btf::cli

@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "btf/material/material.h"
+#include "btf/sampling/binned_sampler.h"
 
 namespace btf::cli {
 
@@ -44,5 +45,8 @@ Quadrature referenceRadiance(const Material& material, const glm::vec3& wo, int 
 
 // drawDirection per second on one thread over `count` draws.
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
+// The same draws through the stream call (BinnedSampler::sampleDirections, blocks of 256).
+double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
+                              std::uint64_t seed);
 
 }  // namespace btf::cli

@@ -12,7 +12,8 @@ const std::vector<std::string>& samplingCsvColumns() {
   static const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes",
                                                    "samples_per_s", "chi2_statistic", "chi2_p", "variance",
                                                    "seconds", "efficiency", "rel_error_vs_reference",
-                                                   "per_sample_variance", "full_cdf_bytes", "acceptance_rate"};
+                                                   "per_sample_variance", "full_cdf_bytes", "acceptance_rate",
+                                                   "stream_samples_per_s"};
   return columns;
 }
 
@@ -35,6 +36,8 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       optional(r.full_cdf_bytes);
       out << ',';
       optional(r.acceptance_rate);
+      out << ',';
+      optional(r.stream_samples_per_s);
       out << '\n';
     }
   });

@@ -1,7 +1,8 @@
 // The rows of `btf bench sampling` and their CSV file (sampling.csv): one row per material and
 // sampler setting, columns
 //   material, sampler, parameter, bytes, samples_per_s, chi2_statistic, chi2_p, variance, seconds,
-//   efficiency, rel_error_vs_reference, per_sample_variance, full_cdf_bytes, acceptance_rate
+//   efficiency, rel_error_vs_reference, per_sample_variance, full_cdf_bytes, acceptance_rate,
+//   stream_samples_per_s (the tabulated samplers' stream call, sampleDirections; empty for others)
 // rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);
 // full_cdf_bytes (the float CDFs of the full grid, for memory ratios) is empty for warps and a
 // material's own sampler; acceptance_rate is the quadtree's mean per-proposal acceptance over its
@@ -22,6 +23,7 @@ struct SamplingRow {
   std::optional<double> parameter;
   std::optional<double> bytes;
   double samples_per_s = 0;
+  std::optional<double> stream_samples_per_s;
   double chi2_statistic = 0, chi2_p = 0;
   double variance = 0, seconds = 0, efficiency = 0;
   double rel_error_vs_reference = 0;

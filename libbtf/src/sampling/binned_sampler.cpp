@@ -125,7 +125,24 @@ std::optional<BinnedSampler::DirectionSample> BinnedSampler::sampleDirection(con
                                                                              int& tries) const {
   tries = 0;
   if (!(wo.z > 0.0f)) return std::nullopt;
-  return sampleQuery(query(wo), u, tries);
+  // u outside [0, 1)^2 (or NaN) would send the searches outside the tables: clamp it there
+  // (NaN -> 0) rather than trust every caller.
+  constexpr float kBelowOne = 0x1.fffffep-1f;
+  const glm::vec2 safe_u(u.x > 0.0f ? std::min(u.x, kBelowOne) : 0.0f, u.y > 0.0f ? std::min(u.y, kBelowOne) : 0.0f);
+  return sampleQuery(query(wo), safe_u, tries);
+}
+
+void BinnedSampler::sampleDirections(std::span<const glm::vec3> wo, std::span<const glm::vec2> u,
+                                     std::span<DirectionSample> out) const {
+  if (u.size() != wo.size() || out.size() != wo.size()) throw Error("sampleDirections: spans of different sizes");
+  int tries = 0;
+  for (std::size_t i = 0; i < wo.size(); ++i)
+    out[i] = sampleDirection(wo[i], u[i], tries).value_or(DirectionSample{glm::vec3(0.0f), 0.0f});
+}
+
+void BinnedSampler::pdfs(std::span<const glm::vec3> wi, std::span<const glm::vec3> wo, std::span<float> out) const {
+  if (wo.size() != wi.size() || out.size() != wi.size()) throw Error("pdfs: spans of different sizes");
+  for (std::size_t i = 0; i < wi.size(); ++i) out[i] = pdf(wi[i], wo[i]);
 }
 
 std::optional<BsdfSample> BinnedSampler::sampleCountingTries(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u,

@@ -57,6 +57,23 @@ inline unsigned countLe32(const std::uint16_t* p, unsigned v, unsigned n) {
   return c;
 #endif
 }
+inline unsigned countLe32(const std::uint8_t* p, unsigned v, unsigned n) {
+#if defined(__SSE2__)
+  // As the 16-bit version, on 2 x 16 bytes; v > 255 (a NaN column's wrapped index) counts all.
+  const __m128i bias = _mm_set1_epi8(char(0x80));
+  const __m128i key = _mm_set1_epi8(char(std::min(v, 255u) ^ 0x80u));
+  auto greater = [&](int i) {
+    return unsigned(_mm_movemask_epi8(
+        _mm_cmpgt_epi8(_mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * i)), bias), key)));
+  };
+  const std::uint64_t mask = greater(0) | std::uint64_t(greater(1)) << 16;
+  return std::min(unsigned(__builtin_ctzll(mask | std::uint64_t(1) << 32)), n);
+#else
+  unsigned c = 0;
+  for (unsigned i = 0; i < n; ++i) c += p[i] <= v;
+  return c;
+#endif
+}
 inline unsigned countLe32(const float* p, float v, unsigned n) {
   unsigned c = 0;
   for (unsigned i = 0; i < n; ++i) c += p[i] <= v;
@@ -87,8 +104,8 @@ template <class Key>
 struct Segment {
   float q0, dq, x0, dx;
 };
-template <class Key>
-inline Segment<Key> segmentAt(const Key* q, const std::uint16_t* x, unsigned k, unsigned m, int n) {
+template <class Key, class Node>
+inline Segment<Key> segmentAt(const Key* q, const Node* x, unsigned k, unsigned m, int n) {
   const unsigned not_first = unsigned(k != 0), last = unsigned(k == m);
   const int xa = int(x[int(k) - 1] * not_first), xk = x[k], xb = xk + int(last) * (n - xk);
   float qa, qb;
@@ -127,6 +144,7 @@ inline bool wellInside(float g, float margin) {
 DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const SamplerOptions& options)
     : BinnedSampler(std::move(material), options), nu_(options.cos_theta_bins), nv_(options.phi_bins) {
   narrow_ = options.epsilon >= kNarrowEpsilon && std::max(nu_, nv_) < 65536;
+  byte_nodes_ = std::max(nu_, nv_) <= 256;
   const float top = narrow_ ? 65535.0f : 1.0f;
   pdf_scale_ = float(double(nu_) * double(nv_) / (double(top) * double(top)) * (0.5 / std::numbers::pi));
   const std::vector<float> grid = tabulateGrid(nu_, nv_);
@@ -183,14 +201,14 @@ DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const Sampl
   });
   starts_.reserve(binCount() * cdfs_per_bin + 1);
   empty_.resize(binCount());
-  nodes_.assign(kLeadPad, 0);
+  nodes16_.assign(kLeadPad, 0);
   if (narrow_)
     cdf16_.assign(kLeadPad, 0);
   else
     cdf32_.assign(kLeadPad, 0.0f);
   for (std::size_t bin = 0; bin < binCount(); ++bin) {
     const BinCdfs& b = bins[bin];
-    std::size_t next = nodes_.size();
+    std::size_t next = nodes16_.size();
     for (std::uint32_t m : b.sizes) {
       starts_.push_back(std::uint32_t(next));
       next += m;
@@ -198,27 +216,32 @@ DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const Sampl
     }
     if (next + kTrailPad > UINT32_MAX)
       throw Error("DpCdfSampler: tables beyond 2^32 vertices; use a coarser grid or a larger epsilon");
-    nodes_.insert(nodes_.end(), b.nodes.begin(), b.nodes.end());
+    nodes16_.insert(nodes16_.end(), b.nodes.begin(), b.nodes.end());
     cdf16_.insert(cdf16_.end(), b.cdf16.begin(), b.cdf16.end());
     cdf32_.insert(cdf32_.end(), b.cdf32.begin(), b.cdf32.end());
     empty_[bin] = b.empty ? 1 : 0;
     max_deviation_ = std::max(max_deviation_, b.deviation);
   }
-  starts_.push_back(std::uint32_t(nodes_.size()));
+  starts_.push_back(std::uint32_t(nodes16_.size()));
   // Bisection steps that bring the longest CDF down to 32 entries (n -> n - n / 2 per step).
   std::uint32_t longest = 0;
   for (std::size_t c = 0; c + 1 < starts_.size(); ++c) longest = std::max(longest, starts_[c + 1] - starts_[c]);
+  for (std::uint32_t n = longest; n > 1; ++full_search_steps_) n -= n / 2;
   for (search_steps_ = 0; longest > 32; ++search_steps_) longest -= longest / 2;
-  nodes_.resize(nodes_.size() + kTrailPad, 0xffff);
+  nodes16_.resize(nodes16_.size() + kTrailPad, 0xffff);
+  if (byte_nodes_) {  // every index is <= 255 (the padding becomes 0xff)
+    nodes8_.assign(nodes16_.begin(), nodes16_.end());
+    std::vector<std::uint16_t>().swap(nodes16_);
+  }
   if (narrow_)
     cdf16_.resize(cdf16_.size() + kTrailPad, 0xffff);
   else
     cdf32_.resize(cdf32_.size() + kTrailPad, 2.0f);
-  nodes_.shrink_to_fit(), cdf16_.shrink_to_fit(), cdf32_.shrink_to_fit();
+  cdf16_.shrink_to_fit(), cdf32_.shrink_to_fit();
   reportInvalidEvaluations();
 }
 
-template <class Key>
+template <class Key, class Node>
 BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st) const {
   // st in [0, 1)^2 (checked by the callers); the cells as rowOf would give them, with 32-bit
   // conversions (a float -> size_t conversion is a branchy sequence on x86-64).
@@ -226,10 +249,11 @@ BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st) con
   const Key* q = keys<Key>();
   const std::uint32_t* starts = starts_.data() + bin * (std::size_t(nu_) + 1);
   const std::uint32_t ms = starts[0], ns = starts[1] - ms, mt = starts[1 + row], nt = starts[2 + row] - mt;
-  const unsigned ks = countLe(nodes_.data() + ms, ns, unsigned(row), search_steps_);
-  const unsigned kt = countLe(nodes_.data() + mt, nt, unsigned(col), search_steps_);
-  const Segment<Key> s = segmentAt(q + ms, nodes_.data() + ms, ks, ns, nu_);
-  const Segment<Key> t = segmentAt(q + mt, nodes_.data() + mt, kt, nt, nv_);
+  const Node* x = nodes<Node>();
+  const unsigned ks = countLe(x + ms, ns, unsigned(row), search_steps_);
+  const unsigned kt = countLe(x + mt, nt, unsigned(col), search_steps_);
+  const Segment<Key> s = segmentAt(q + ms, x + ms, ks, ns, nu_);
+  const Segment<Key> t = segmentAt(q + mt, x + mt, kt, nt, nv_);
   return pdfOf(s.dq, s.dx, t.dq, t.dx, pdf_scale_);
 }
 
@@ -238,13 +262,13 @@ float DpCdfSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
   if (!(wi.z > 0.0f)) return 0.0f;
   const glm::vec2 st = directionToSquare(q.toBinFrame(wi));
   if (!(st.x < 1.0f) || empty_[q.bin]) return 0.0f;
-  return narrow_ ? pdfImpl<std::uint16_t>(q.bin, st) : pdfImpl<float>(q.bin, st);
+  return withTableTypes([&](auto key, auto node) { return pdfImpl<decltype(key), decltype(node)>(q.bin, st); });
 }
 
-template <class Key>
+template <class Key, class Node>
 BTF_ALWAYS_INLINE std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sampleImpl(const BinQuery& q, glm::vec2 u) const {
   const Key* keys_ = keys<Key>();
-  const std::uint16_t* nodes = nodes_.data();
+  const Node* nodes = this->nodes<Node>();
   const std::uint32_t* starts = starts_.data() + q.bin * (std::size_t(nu_) + 1);
   // Keys compared with u scaled to them: for 16-bit keys, key <= u * 65535 iff key <= its floor.
   const float us = u.x * kTop<Key>, ut = u.y * kTop<Key>;
@@ -283,7 +307,7 @@ std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sampleQuery(const Bi
                                                                         int& tries) const {
   if (empty_[q.bin]) return std::nullopt;
   tries = 1;
-  return narrow_ ? sampleImpl<std::uint16_t>(q, u) : sampleImpl<float>(q, u);
+  return withTableTypes([&](auto key, auto node) { return sampleImpl<decltype(key), decltype(node)>(q, u); });
 }
 
 // The generic entry points (the fast paths above do not use them; they define the same density).
@@ -291,20 +315,21 @@ std::optional<glm::vec2> DpCdfSampler::sampleInBin(std::size_t bin, glm::vec2 u,
   if (empty_[bin]) return std::nullopt;
   tries = 1;
   const BinQuery q{bin, 1.0f, 0.0f};
-  const auto d = narrow_ ? sampleImpl<std::uint16_t>(q, u) : sampleImpl<float>(q, u);
+  const auto d =
+      withTableTypes([&](auto key, auto node) { return sampleImpl<decltype(key), decltype(node)>(q, u); });
   if (!d) return std::nullopt;
   return directionToSquare(d->wi);
 }
 
 float DpCdfSampler::pdfInBin(std::size_t bin, glm::vec2 st) const {
   if (empty_[bin] || !(st.x >= 0.0f && st.x < 1.0f && st.y >= 0.0f && st.y < 1.0f)) return 0.0f;
-  return (narrow_ ? pdfImpl<std::uint16_t>(bin, st) : pdfImpl<float>(bin, st)) * kTwoPi;
+  return withTableTypes([&](auto key, auto node) { return pdfImpl<decltype(key), decltype(node)>(bin, st); }) * kTwoPi;
 }
 
 SamplerStats DpCdfSampler::stats() const {
   SamplerStats s;
   fillCommonStats(s);
-  s.bytes = (nodes_.size() + cdf16_.size()) * sizeof(std::uint16_t) + cdf32_.size() * sizeof(float) +
+  s.bytes = nodes8_.size() + (nodes16_.size() + cdf16_.size()) * sizeof(std::uint16_t) + cdf32_.size() * sizeof(float) +
             starts_.size() * sizeof(std::uint32_t) + empty_.size();
   s.elements = vertex_count_;
   s.mean_elements_per_cdf = double(vertex_count_) / double(starts_.size() - 1);

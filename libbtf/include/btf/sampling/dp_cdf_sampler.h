@@ -6,8 +6,8 @@
 // conditional's slope at t, over 2 pi: exact for any epsilon (it is the density of the stored
 // polylines, which are what sample() inverts).
 //
-// Memory. Kept vertices are grid nodes, so a vertex is stored as its node index (16 bits) and
-// its CDF value; the first (node 0, CDF 0) and last (node n, CDF 1) vertex of every CDF are
+// Memory. Kept vertices are grid nodes, so a vertex is stored as its node index (8 bits when the
+// grid has at most 256 cells per side, as MERL-size tables do, else 16) and its CDF value; the first (node 0, CDF 0) and last (node n, CDF 1) vertex of every CDF are
 // implicit. CDF values are 16-bit fixed point (value * 65535) when epsilon >= kNarrowEpsilon, else
 // floats. Quantizing moves each vertex by at most half a quantum (7.6e-6), so the stored polyline
 // stays within epsilon + quantum / 2 of the full CDF (segments with mass keep at least one quantum,
@@ -15,8 +15,8 @@
 // in degenerate CDFs). maxCdfDeviation() is measured on the stored polylines, whatever they are.
 // Per CDF there is one 32-bit index of its first vertex (the count is the next index minus it);
 // no guide tables: a search bisects (branch-free, a fixed number of steps per table) down to 32
-// entries, then compares those 32 at once (SSE2, part of x86-64) and counts the leading matches. About 4 bytes per kept interior
-// vertex plus 4 per CDF: <= 0.1 of the full float CDFs at epsilon = 1e-2 on a MERL-size table.
+// entries, then compares those 32 at once (SSE2, part of x86-64) and counts the leading matches.
+// About 3 bytes per kept interior vertex (4 with 16-bit nodes) plus 4 per CDF.
 //
 // Cells and segments. The pdf of (s, t) takes the grid cell c = floor(s * nu) (the row) and the
 // marginal segment = the number of interior vertices at nodes <= c; the same for t in the row's
@@ -53,6 +53,16 @@ class DpCdfSampler final : public BinnedSampler {
   // Step of the stored CDF values: 1 / 65535 for 16-bit storage, 0 for floats.
   double cdfQuantum() const { return narrow_ ? 1.0 / 65535.0 : 0.0; }
 
+  // Eight queries per step in AVX2 lanes (gathers for the searches, the scalar path's arithmetic
+  // operation for operation, so the results are the single queries' bit for bit); lanes whose
+  // draw lies within kCellMargin of a cell border take the scalar pdf. Used for isotropic
+  // materials with 16-bit CDFs on CPUs with AVX2; otherwise the single queries run in a loop.
+  void sampleDirections(std::span<const glm::vec3> wo, std::span<const glm::vec2> u,
+                        std::span<DirectionSample> out) const override;
+  void pdfs(std::span<const glm::vec3> wi, std::span<const glm::vec3> wo, std::span<float> out) const override;
+  // True when sampleDirections and pdfs take the vector path on this machine.
+  bool vectorized() const;
+
  protected:
   std::optional<DirectionSample> sampleQuery(const BinQuery& q, glm::vec2 u, int& tries) const final;
   float pdfQuery(const BinQuery& q, const glm::vec3& wi) const final;
@@ -60,10 +70,19 @@ class DpCdfSampler final : public BinnedSampler {
   float pdfInBin(std::size_t bin, glm::vec2 st) const override;
 
  private:
-  template <class Key>
+  struct LaneTables;  // the tables as the vector path reads them (dp_cdf_batch.cpp)
+  LaneTables laneTables() const;
+  template <class Key, class Node>
   std::optional<DirectionSample> sampleImpl(const BinQuery& q, glm::vec2 u) const;
-  template <class Key>
+  template <class Key, class Node>
   float pdfImpl(std::size_t bin, glm::vec2 st) const;
+  // Calls f(Key{}, Node{}) with the key and node types of the tables.
+  template <class F>
+  decltype(auto) withTableTypes(F&& f) const {
+    if (narrow_)
+      return byte_nodes_ ? f(std::uint16_t{}, std::uint8_t{}) : f(std::uint16_t{}, std::uint16_t{});
+    return byte_nodes_ ? f(float{}, std::uint8_t{}) : f(float{}, std::uint16_t{});
+  }
   template <class Key>
   const Key* keys() const {
     if constexpr (std::is_same_v<Key, std::uint16_t>)
@@ -71,16 +90,26 @@ class DpCdfSampler final : public BinnedSampler {
     else
       return cdf32_.data();
   }
+  template <class Node>
+  const Node* nodes() const {
+    if constexpr (std::is_same_v<Node, std::uint8_t>)
+      return nodes8_.data();
+    else
+      return nodes16_.data();
+  }
 
   int nu_, nv_;
   bool narrow_;
+  bool byte_nodes_;  // node indices in 8 bits (grid <= 256 cells per side)
   int search_steps_ = 0;  // bisection steps of every search (countLe), from the longest CDF
+  int full_search_steps_ = 0;  // bisection steps down to one entry (the vector path's searches)
   float pdf_scale_;  // nu nv / (top^2 2 pi): pdf = (dq_s / dx_s) (dq_t / dx_t) pdf_scale_
   // Interior vertices of all CDFs, bin-major (marginal, then rows 0..nu-1), one leading and 32
   // trailing padding entries so that the searches may read a little outside a CDF.
   std::vector<std::uint16_t> cdf16_;  // narrow: CDF value * 65535
   std::vector<float> cdf32_;          // wide: CDF value
-  std::vector<std::uint16_t> nodes_;  // grid node index of each vertex (1..n-1)
+  std::vector<std::uint16_t> nodes16_;  // grid node index of each vertex (1..n-1), unless byte_nodes_
+  std::vector<std::uint8_t> nodes8_;    // the same in 8 bits when byte_nodes_
   std::vector<std::uint32_t> starts_;  // per CDF, its first vertex; one more at the end
   std::size_t vertex_count_ = 0;       // including the implicit end points
   std::vector<unsigned char> empty_;
