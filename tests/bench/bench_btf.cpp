@@ -76,6 +76,18 @@ void BM_BtfEvalVqBilinear(benchmark::State& state) { runBtfEval(state, btfFixtur
 void BM_BtfEvalVqNearest(benchmark::State& state) { runBtfEval(state, btfFixture().vq_nearest); }
 void BM_BtfEvalDataNearest(benchmark::State& state) { runBtfEval(state, btfFixture().data_nearest); }
 void BM_BtfSampleVq(benchmark::State& state) { runBtfSample(state, btfFixture().vq_nearest); }
+// The direction and its pdf alone (no eval for the weight): the twofold search's own cost.
+void BM_BtfSampleDirectionVq(benchmark::State& state) {
+  const auto& queries = btfFixture().queries;
+  const btf::BtfMaterial& m = btfFixture().vq_nearest;
+  const std::size_t mask = queries.size() - 1;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& q = queries[i++ & mask];
+    benchmark::DoNotOptimize(m.sampleDirection(q.wo, q.uv, q.u));
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()));
+}
 void BM_BtfSampleData(benchmark::State& state) { runBtfSample(state, btfFixture().data_nearest); }
 void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFixture().lafortune); }
 
@@ -84,6 +96,7 @@ BENCHMARK(BM_BtfEvalVqBilinear);
 BENCHMARK(BM_BtfEvalVqNearest);
 BENCHMARK(BM_BtfEvalDataNearest);
 BENCHMARK(BM_BtfSampleVq);
+BENCHMARK(BM_BtfSampleDirectionVq);
 BENCHMARK(BM_BtfSampleData);
 BENCHMARK(BM_BtfSampleLafortune1);
 

@@ -34,7 +34,10 @@ std::string shellQuote(const std::string& s) {
 
 CommandResult runCommand(const std::string& program, const std::vector<std::string>& args) {
   std::string command = shellQuote(program);
-  for (const auto& a : args) command += " " + shellQuote(a);
+  for (const auto& a : args) {
+    command += ' ';  // appended separately: GCC 12 warns falsely (-Wrestrict) on " " + std::string&&
+    command += shellQuote(a);
+  }
   command += " 2>&1 </dev/null";
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + program);

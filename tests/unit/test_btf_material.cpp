@@ -92,6 +92,21 @@ TEST(BtfMaterial, SampleAgreesWithPdfAndWeight) {
   }
 }
 
+TEST(BtfMaterial, SampleDirectionIsSampleWithoutTheWeight) {
+  const btf::BtfMaterial material(smallVq());
+  btf::Rng rng(6);
+  for (int k = 0; k < 2000; ++k) {
+    const glm::vec3 wo = k % 100 == 7 ? glm::vec3(0, 0, -1) : btf::sphericalDirection(rng.uniform() * 1.5f, rng.uniform() * btf::kTwoPi);
+    const glm::vec2 uv = rng.uniform2D(), u = rng.uniform2D();
+    const auto s = material.sample(wo, uv, u);
+    const auto d = material.sampleDirection(wo, uv, u);
+    ASSERT_EQ(s.has_value(), d.has_value()) << k;
+    if (!s) continue;
+    EXPECT_EQ(s->wi, d->wi);
+    EXPECT_EQ(s->pdf, d->pdf);
+  }
+}
+
 TEST(BtfMaterial, SamplerPassesChiSquareOnDataAndVq) {
   btf::Chi2Options options;
   options.sample_count = 200'000;

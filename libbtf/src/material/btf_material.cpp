@@ -7,6 +7,7 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/core/fast_atan.h"
+#include "btf/core/fast_trig.h"
 #include "btf/core/math.h"
 #include "btf/sampling/cdf1d.h"
 
@@ -205,6 +206,14 @@ const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, gl
 }
 
 std::optional<BsdfSample> BtfMaterial::sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const {
+  const std::optional<DirectionSample> d = sampleDirection(wo, uv, u);
+  if (!d) return std::nullopt;
+  const Rgb f = eval(d->wi, wo, uv);
+  return BsdfSample{d->wi, f * (d->wi.z / d->pdf), d->pdf};
+}
+
+std::optional<BtfMaterial::DirectionSample> BtfMaterial::sampleDirection(const glm::vec3& wo, glm::vec2 uv,
+                                                                         glm::vec2 u) const {
   if (!(wo.z > 0.0f)) return std::nullopt;
   const LightTables& tables = lightTables(wo, uv);
   if (!(tables.total > 0)) return std::nullopt;
@@ -220,11 +229,12 @@ std::optional<BsdfSample> BtfMaterial::sample(const glm::vec3& wo, glm::vec2 uv,
                           (cells.cos_bottom[std::size_t(r)] - cells.cos_top[std::size_t(r)]) * ring_choice.remapped;
   const float turns = n == 1 ? azimuth_choice.remapped
                              : (float(azimuth_choice.index) - 0.5f + azimuth_choice.remapped) / float(n);
-  const float phi = turns * kTwoPi, sin_theta = safeSqrt(1.0f - cos_theta * cos_theta);
-  const glm::vec3 wi(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+  const float sin_theta = safeSqrt(1.0f - cos_theta * cos_theta);
+  float cos_phi, sin_phi;
+  cosSinTurns(turns, cos_phi, sin_phi);  // turns > -1/12 (half of ring 1's cell)
+  const glm::vec3 wi(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta);
   if (!(wi.z > 0.0f)) return std::nullopt;
-  const Rgb f = eval(wi, wo, uv);
-  return BsdfSample{wi, f * (wi.z / density), density};
+  return DirectionSample{wi, density};
 }
 
 float BtfMaterial::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) const {

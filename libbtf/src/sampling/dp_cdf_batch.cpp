@@ -164,7 +164,7 @@ BTF_AVX2 inline __m256 linear(float c0, float c1, __m256 z) {
   return _mm256_sub_ps(_mm256_set1_ps(c0), _mm256_mul_ps(_mm256_set1_ps(c1), z));
 }
 
-// detail::cosSinTurns.
+// cosSinTurns (core/fast_trig.h).
 BTF_AVX2 inline void cosSinTurns(__m256 t, __m256& c, __m256& s) {
   const __m256i quarter = _mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(4.0f), t), _mm256_set1_ps(0.5f)));
   const __m256 a = _mm256_mul_ps(_mm256_set1_ps(6.28318531f),

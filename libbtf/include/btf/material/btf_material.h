@@ -42,6 +42,13 @@ class BtfMaterial final : public Material {
 
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
+  // The direction sample() draws and its pdf, without the eval() of the weight (the sampler's own
+  // cost, as BinnedSampler::sampleDirection; for callers that evaluate f themselves, e.g. for MIS).
+  struct DirectionSample {
+    glm::vec3 wi;
+    float pdf;
+  };
+  std::optional<DirectionSample> sampleDirection(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override { return name_; }
   bool isAnisotropic() const override { return true; }

@@ -50,6 +50,7 @@
 #include <glm/glm.hpp>
 
 #include "btf/core/fast_atan.h"
+#include "btf/core/fast_trig.h"
 #include "btf/core/math.h"
 #include "btf/material/material.h"
 #include "btf/sampling/dp_cdf.h"
@@ -97,27 +98,6 @@ struct SamplerStats {
   std::uint64_t invalid_evaluations = 0;  // of which NaN, infinite or negative (counted as 0)
 };
 
-namespace detail {
-
-// cos and sin of 2 pi t for t in [0, 1], without the library's general range reduction: t is in
-// turns, so the nearest quarter turn is subtracted exactly (Sterbenz) and Taylor polynomials of
-// degree 8 / 9 on [-pi/4, pi/4] give |error| < 3e-8, below float resolution of the unit vector.
-inline void cosSinTurns(float t, float& c, float& s) {
-  const int quarter = static_cast<int>(4.0f * t + 0.5f);  // t >= 0: rounds to nearest
-  const float a = 6.28318531f * (t - 0.25f * float(quarter)), a2 = a * a;
-  const float sin_a = a * (1.0f + a2 * (-1.0f / 6 + a2 * (1.0f / 120 + a2 * (-1.0f / 5040 + a2 * (1.0f / 362880)))));
-  const float cos_a = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 + a2 * (1.0f / 40320))));
-  // Quarter 0: (cos, sin); 1: (-sin, cos); 2: (-cos, -sin); 3: (sin, -cos). That is a swap for
-  // odd quarters and a negation of both for quarters 2 and 3, done on the bits: the quarter is
-  // random for sampled directions and a switch was a mispredicted jump.
-  const std::uint32_t swap = 0u - std::uint32_t(quarter & 1), negate = std::uint32_t(quarter & 2) << 30;
-  const std::uint32_t cb = std::bit_cast<std::uint32_t>(cos_a), sb = std::bit_cast<std::uint32_t>(sin_a);
-  c = std::bit_cast<float>(((cb & ~swap) | ((sb ^ 0x80000000u) & swap)) ^ negate);
-  s = std::bit_cast<float>(((sb & ~swap) | (cb & swap)) ^ negate);
-}
-
-
-}  // namespace detail
 
 class BinnedSampler : public Material {
  public:
@@ -204,11 +184,11 @@ class BinnedSampler : public Material {
   // Logs a warning if any evaluation was invalid; derived constructors call it last.
   void reportInvalidEvaluations() const;
 
-  // Inline (and free of library trigonometry, see detail::) because they are on every query.
+  // Inline (and free of library trigonometry, see core/fast_trig.h) because they are on every query.
   static glm::vec3 squareToDirection(glm::vec2 st) {
     const float z = st.x, r = std::sqrt(std::max(1.0f - z * z, 0.0f));
     float c, s;
-    detail::cosSinTurns(st.y, c, s);
+    cosSinTurns(st.y, c, s);
     return {r * c, r * s, z};
   }
   static glm::vec2 directionToSquare(const glm::vec3& w) {
