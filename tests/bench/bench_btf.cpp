@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "../unit/btf_test_data.h"
@@ -91,7 +92,47 @@ void BM_BtfSampleDirectionVq(benchmark::State& state) {
 void BM_BtfSampleData(benchmark::State& state) { runBtfSample(state, btfFixture().data_nearest); }
 void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFixture().lafortune); }
 
+// Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
+// no interpolation, the random access that decompression-based renderers make.
+void BM_BtfDecodeVqValue(benchmark::State& state) {
+  const btf::VqBtf& vq = *btfFixture().vq;
+  const auto& queries = btfFixture().queries;
+  const std::size_t mask = queries.size() - 1;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& q = queries[i++ & mask];
+    const int x = int(q.uv.x * 16.0f), y = int(q.uv.y * 16.0f);
+    const int view = int(q.u.x * float(btf::kBtfDirectionCount)), light = int(q.u.y * float(btf::kBtfDirectionCount));
+    benchmark::DoNotOptimize(vq.value(x, y, view, light));
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()));
+}
+
+// The same samples through the stream call (VqBtf::values, AVX2 lanes), blocks of 256.
+void BM_BtfDecodeVqStream(benchmark::State& state) {
+  const btf::VqBtf& vq = *btfFixture().vq;
+  const auto& queries = btfFixture().queries;
+  std::vector<btf::BtfSampleIndex> samples(queries.size());
+  for (std::size_t k = 0; k < queries.size(); ++k) {
+    const auto& q = queries[k];
+    samples[k] = {int(q.uv.x * 16.0f), int(q.uv.y * 16.0f), int(q.u.x * float(btf::kBtfDirectionCount)),
+                  int(q.u.y * float(btf::kBtfDirectionCount))};
+  }
+  constexpr std::size_t kBlock = 256;
+  std::vector<btf::Rgb> out(kBlock);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    vq.values(std::span(samples.data() + i, kBlock), out);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+    i = (i + kBlock) & (samples.size() - 1);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations() * kBlock));
+}
+
 BENCHMARK(BM_BtfEvalLafortune1);
+BENCHMARK(BM_BtfDecodeVqValue);
+BENCHMARK(BM_BtfDecodeVqStream);
 BENCHMARK(BM_BtfEvalVqBilinear);
 BENCHMARK(BM_BtfEvalVqNearest);
 BENCHMARK(BM_BtfEvalDataNearest);

@@ -130,6 +130,17 @@ void VqBtf::Impl::prepare(const std::string& what) {
   decode(l2_scale, l2_scale_f);
   decode(l3_scale, l3_scale_f);
   decode(top_scale, top_scale_f);
+  l1_flat.clear();
+  chroma_flat.clear();
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    if (l1_flat.size() + l1_values[std::size_t(r)].size() > std::size_t(INT32_MAX) ||
+        chroma_flat.size() + chroma_rgb[std::size_t(r)].size() > std::size_t(INT32_MAX))
+      throw Error(what + ": codebooks beyond 2^31 values");
+    l1_offset[std::size_t(r)] = std::int32_t(l1_flat.size());
+    chroma_offset[std::size_t(r)] = std::int32_t(chroma_flat.size());
+    l1_flat.insert(l1_flat.end(), l1_values[std::size_t(r)].begin(), l1_values[std::size_t(r)].end());
+    chroma_flat.insert(chroma_flat.end(), chroma_rgb[std::size_t(r)].begin(), chroma_rgb[std::size_t(r)].end());
+  }
 }
 
 VqBtf::VqBtf(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}

@@ -58,6 +58,10 @@ struct VqBtf::Impl {
   // Per ring and chroma entry, btfRingSize(ring) triples (r, g, b): RGB = luminance * (r, g, b).
   std::array<std::vector<float>, kBtfRingCount> chroma_rgb;
   std::vector<float> l2_scale_f, l3_scale_f, top_scale_f;
+  // The same l1_values and chroma_rgb, all rings in one array each, for gathers by ring
+  // (vq_stream.cpp): ring r starts at l1_offset[r], chroma_offset[r] (in floats).
+  std::vector<float> l1_flat, chroma_flat;
+  std::array<std::int32_t, 8> l1_offset{}, chroma_offset{};
 
   std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(btfRingSize(ring)); }
   std::size_t l2Count() const { return l2_index.size() / kBtfRingCount; }

@@ -26,6 +26,26 @@ BtfData::BtfData(int width, int height, std::string name) : width_(width), heigh
   values_.assign(viewSize() * kBtfDirectionCount, Rgb());
 }
 
+void BtfLookup::checkSampleIndices(std::span<const BtfSampleIndex> samples, std::size_t out_size) const {
+  if (samples.size() != out_size) throw Error("BTF values: spans of different sizes");
+  const int w = lookupWidth(), h = lookupHeight();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const BtfSampleIndex& s = samples[i];
+    if (s.x < 0 || s.x >= w || s.y < 0 || s.y >= h || s.view < 0 || s.view >= kBtfDirectionCount || s.light < 0 ||
+        s.light >= kBtfDirectionCount)
+      throw Error("BTF values: sample " + std::to_string(i) + " (x " + std::to_string(s.x) + ", y " + std::to_string(s.y) +
+                  ", view " + std::to_string(s.view) + ", light " + std::to_string(s.light) + ") is outside the " +
+                  std::to_string(w) + " x " + std::to_string(h) + " texels and " + std::to_string(kBtfDirectionCount) +
+                  " directions");
+  }
+}
+
+void BtfLookup::values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const {
+  checkSampleIndices(samples, out.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    out[i] = value(samples[i].x, samples[i].y, samples[i].view, samples[i].light);
+}
+
 void BtfData::loadView(int v, std::vector<Rgb>& out) const {
   if (v < 0 || v >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(v) + " is out of range");
   out.assign(view(v), view(v) + viewSize());

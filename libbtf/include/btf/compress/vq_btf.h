@@ -72,6 +72,7 @@ class VqBtf final : public BtfSource, public BtfLookup {
   int lookupWidth() const override { return width(); }
   int lookupHeight() const override { return height(); }
   Rgb value(int x, int y, int view, int light) const override;
+  void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const override;
 
   const VqOptions& options() const;
   const VqStats& stats() const;

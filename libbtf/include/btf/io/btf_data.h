@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,12 +39,25 @@ class BtfSource {
 
 // Random access to single entries, for evaluation (material/btf_material.h). Implemented by the
 // in-memory BtfData and by the compressed forms, which decode one entry without decoding more.
+// One measured sample of a BTF: texel (x, y), view and light indices (btf_directions.h).
+struct BtfSampleIndex {
+  int x, y, view, light;
+};
+
 class BtfLookup {
  public:
   virtual ~BtfLookup() = default;
   virtual int lookupWidth() const = 0;
   virtual int lookupHeight() const = 0;
   virtual Rgb value(int x, int y, int view, int light) const = 0;
+  // A stream of lookups (after Embree's stream calls): out[i] = value(samples[i]), bit for bit.
+  // Throws btf::Error for spans of different sizes or an index outside the BTF (naming it). The
+  // default loops; VqBtf decodes eight samples per step in AVX2 lanes where the CPU has them.
+  virtual void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const;
+
+ protected:
+  // The checks of values(): equal sizes, every index inside the BTF (btf::Error otherwise).
+  void checkSampleIndices(std::span<const BtfSampleIndex> samples, std::size_t out_size) const;
 };
 
 // A BTF held in memory, view-major: at(x, y, view, light). For tests, small generated data and

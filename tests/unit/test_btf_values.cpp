@@ -1,0 +1,69 @@
+// BtfLookup::values, the stream of measured-sample lookups: bit for bit value() on every form
+// (the VqBtf's AVX2 lanes at three levels, its loop at one and two, the in-memory data), and the
+// bad-input checks.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "btf/compress/vq_btf.h"
+#include "btf/core/error.h"
+#include "btf/core/rng.h"
+#include "btf_test_data.h"
+
+namespace btf {
+namespace {
+
+std::vector<BtfSampleIndex> randomSamples(int width, int height, std::size_t n) {
+  Rng rng(3);
+  std::vector<BtfSampleIndex> s(n);
+  for (auto& q : s)
+    q = {int(rng.uniform() * float(width)) % width, int(rng.uniform() * float(height)) % height,
+         int(rng.uniform() * kBtfDirectionCount) % kBtfDirectionCount,
+         int(rng.uniform() * kBtfDirectionCount) % kBtfDirectionCount};
+  s.back() = {width - 1, height - 1, kBtfDirectionCount - 1, kBtfDirectionCount - 1};  // the last entries
+  s.front() = {0, 0, 0, 0};
+  return s;
+}
+
+void expectStreamMatchesValue(const BtfLookup& btf, int width, int height) {
+  const std::vector<BtfSampleIndex> samples = randomSamples(width, height, 1001);  // a partial last block
+  std::vector<Rgb> out(samples.size());
+  btf.values(samples, out);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Rgb v = btf.value(samples[i].x, samples[i].y, samples[i].view, samples[i].light);
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(v[c]), std::bit_cast<std::uint32_t>(out[i][c])) << "sample " << i;
+  }
+}
+
+TEST(BtfValues, StreamGivesValueBitForBitOnEveryForm) {
+  const BtfData data = test::makeGgxBtf(6, 5, true);
+  expectStreamMatchesValue(data, 6, 5);
+  for (int levels : {1, 2, 3}) {
+    VqOptions o;
+    o.levels = levels;
+    const VqBtf vq = compressVq(data, o);
+    SCOPED_TRACE(levels);
+    expectStreamMatchesValue(vq, 6, 5);
+  }
+}
+
+TEST(BtfValues, RejectsIndicesOutsideTheBtfAndSpansOfDifferentSizes) {
+  const BtfData data = test::makeGgxBtf(4, 4, false);
+  const VqBtf vq = compressVq(data, {});
+  std::vector<Rgb> out(1);
+  for (const BtfLookup* btf : {static_cast<const BtfLookup*>(&data), static_cast<const BtfLookup*>(&vq)}) {
+    for (const BtfSampleIndex bad : {BtfSampleIndex{4, 0, 0, 0}, BtfSampleIndex{0, -1, 0, 0},
+                                     BtfSampleIndex{0, 0, 81, 0}, BtfSampleIndex{0, 0, 0, -3}}) {
+      const std::vector<BtfSampleIndex> samples{bad};
+      EXPECT_THROW(btf->values(samples, out), Error);
+    }
+    const std::vector<BtfSampleIndex> two(2, BtfSampleIndex{0, 0, 0, 0});
+    EXPECT_THROW(btf->values(two, out), Error);
+  }
+}
+
+}  // namespace
+}  // namespace btf
