@@ -214,6 +214,28 @@ TEST(VqBtf, OutputDoesNotDependOnTheThreadCount) {
   EXPECT_EQ(bytes_a == bytes_b, true);
 }
 
+TEST(VqBtf, OutputDoesNotDependOnTheThreadCountAcrossChunksAndSegments) {
+  // 12 x 12 texels: two chunks per batch (the compressor's kChunk is 128), and codebooks of
+  // thousands of entries, so that kd-tree segments are built and merged (codebook.h) while the
+  // ring jobs, the chunk searches and the loading of the next view run in parallel.
+  static const btf::BtfData data = btf::test::makeGgxBtf(12, 12, false);
+  btf::VqOptions options;
+  options.epsilon = 0.02f;
+  options.threads = 1;
+  const btf::VqBtf one = btf::compressVq(data, options);
+  options.threads = 2;
+  const btf::VqBtf two = btf::compressVq(data, options);
+  ASSERT_EQ(one.stats().codebook_entries.size(), 3u);
+  EXPECT_GT(one.stats().codebook_entries[0], 1000u);
+  btf::test::TempDir dir;
+  one.write(dir / "one.btfz");
+  two.write(dir / "two.btfz");
+  std::ifstream a(dir / "one.btfz", std::ios::binary), b(dir / "two.btfz", std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_FALSE(bytes_a.empty());
+  EXPECT_EQ(bytes_a == bytes_b, true);
+}
+
 TEST(VqBtf, WriteReadRoundTripDecodesBitIdentically) {
   btf::test::TempDir dir;
   for (int levels = 1; levels <= 3; ++levels) {

@@ -1,19 +1,29 @@
 // compressVq: the multi-level VQ compressor (compress/vq_btf.h states the tolerances and bounds).
 //
-// Order of work. Views are compressed one at a time (the source streams by view). Inside a view,
-// level 1 runs ring by ring over all texels, then level 2 over all texels' light slices; level 3
-// runs at the end over the texels (their 81 level-2 codes are kept, ~6 bytes each).
+// Order of work. Views are compressed one at a time (the source streams by view; the next view
+// loads meanwhile). Inside a view, the chromaticity of each ring and level 1 of each ring run as
+// eleven independent jobs (each has its own codebook), then level 2 over all texels' light slices;
+// level 3 runs at the end over the texels (their 81 level-2 codes are kept, ~6 bytes each).
 //
-// Determinism with parallel search. Each batch (one ring of one view, the slices of one view, 4096
-// texels at level 3) is first searched in parallel against the codebook as it stood before the
-// batch (a frozen snapshot: searches are const), then walked sequentially in texel order: a vector
-// without a reusable snapshot entry is searched in a small codebook of the entries the batch has
-// added so far and, failing that, becomes a new entry. Scales and errors are then computed in
-// parallel. Every decision depends only on the data and the batch order, never on the threads.
+// Determinism with parallel search. Each batch (one ring of one view, the slices of one view, the
+// texels at level 3) is cut into chunks of kChunk vectors in texel order. A chunk is first searched
+// in parallel against the codebook as it stood before the chunk (a frozen snapshot: searches are
+// const), then walked sequentially in texel order: a vector without a reusable snapshot entry is
+// compared with the entries the chunk has added so far (a linear scan of at most kChunk entries)
+// and, failing that, becomes a new entry; then the chunk's new entries are indexed (codebook.h).
+// Scales and errors are then computed in parallel. Every decision depends only on the data and the
+// chunk order, never on the threads or on how the jobs interleave.
+// Cost. Snapshot searches are approximate (at most kMaxVisits kd-tree nodes per segment,
+// codebook.h), so a search costs about the same whatever the codebook size, and compression time
+// grows about linearly with the texel count (on the synthetic BTFs, whose codebooks keep 15-90 % of
+// their vectors, exact searches grew about linearly with the codebook: quadratic in all). An
+// approximate search may miss a reusable entry, which costs an extra entry, never accuracy: every
+// entry it returns is verified by the rules below.
 //
 // Reuse rules (least-squares error <= the tolerance of vq_btf.h at each level, Codebook's radius
 // search with the radius of that vector's relative tolerance):
-// - level 1: exact by the chord radius on unit directions (codebook.h);
+// - level 1: the nearest entry the search finds within the chord radius on unit directions
+//   (exactly the tolerance, codebook.h);
 // - chromaticity (per ring, alongside level 1): the key is the ring's chroma function (R/Y, B/Y
 //   per azimuth), normalized; candidates are the 8 nearest within a generous chord radius
 //   (4 chroma_epsilon sqrt(n) / |c|), verified exactly by the luminance-weighted error of vq_btf.h;
@@ -28,7 +38,9 @@
 // the one its level-2 entry carries, both verified against the data.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -49,13 +61,42 @@ namespace {
 
 constexpr std::uint32_t kNoChroma = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kCandidates = 8;
-constexpr std::size_t kLevel3Batch = 4096;
+// Vectors per chunk: the sequential part scans up to this many new entries per unmatched vector,
+// the parallel part wants enough work per chunk to keep the threads busy.
+constexpr std::size_t kChunk = 128;
+// Node visits per kd-tree segment in snapshot searches (codebook.h). On the synthetic fabric at
+// 64 x 64 texels, 16 rather than unlimited cost 1-2 % more entries and made the chroma searches
+// ~3x faster; 8 would save another ~15 % of search time for another ~0.5 % of entries.
+constexpr int kMaxVisits = 16;
 
 template <class F>
 void parallelFor(std::size_t n, F&& f) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
   });
+}
+
+// The chunked snapshot-then-sequential quantization of one batch (see the top). match[t] >= 0 on
+// entry marks vectors already decided (e.g. zero ones). find(t, options) returns the reusable entry
+// the codebook search with `options` finds for vector t, or -1; create(t) adds vector t's entry to
+// `book` and returns its index.
+template <class Find, class Create>
+void quantizeBatch(Codebook& book, std::vector<std::int64_t>& match, Find&& find, Create&& create) {
+  const std::size_t n = match.size();
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t end = std::min(n, begin + kChunk);
+    const std::uint32_t chunk_first = std::uint32_t(book.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t t = r.begin(); t != r.end(); ++t)
+        if (match[t] < 0) match[t] = find(t, Codebook::SearchOptions{0, kMaxVisits});
+    });
+    for (std::size_t t = begin; t < end; ++t) {
+      if (match[t] >= 0) continue;
+      if (book.size() > chunk_first) match[t] = find(t, Codebook::SearchOptions{chunk_first, 0});
+      if (match[t] < 0) match[t] = create(t);
+    }
+    book.index();
+  }
 }
 
 float norm(const float* v, int n) {
@@ -104,13 +145,13 @@ class Compressor {
       std::vector<std::uint16_t> sc(kBtfRingCount);
       for (int r = 0; r < kBtfRingCount; ++r) sc[std::size_t(r)] = encodeVqScale(std::sqrt(float(btfRingSize(r))) / 9.0f);
       l2_.emplace(kBtfDirectionCount);
-      addLevel2Entry(e1.data(), sc.data(), ch.data(), nullptr);
+      addLevel2Entry(e1.data(), sc.data(), ch.data());
     }
     if (options.levels == 3) {
       l3_.emplace(kBtfDirectionCount);
       std::vector<std::uint32_t> e(kBtfDirectionCount, 0);
       std::vector<std::uint16_t> sc(kBtfDirectionCount, encodeVqScale(1.0f / 9.0f));
-      addLevel3Entry(e.data(), sc.data(), nullptr);
+      addLevel3Entry(e.data(), sc.data());
     }
   }
 
@@ -129,14 +170,20 @@ class Compressor {
       view_chroma_.resize(T * kBtfDirectionCount * kBtfRingCount);
     }
     Progress progress("vq compress " + source_.name(), kBtfDirectionCount + (options_.levels == 3 ? 1 : 0));
-    std::vector<Rgb> buffer;
+    // The next view loads (a synthetic source renders it) while this one is compressed; one
+    // loadView at a time, so sources need not be thread-safe beyond running on a worker thread.
+    std::vector<Rgb> buffer, next;
+    source_.loadView(0, buffer);
+    tbb::task_group loader;
     for (int v = 0; v < kBtfDirectionCount; ++v) {
-      source_.loadView(v, buffer);
       if (buffer.size() != T * kBtfDirectionCount)
         throw Error(source_.name() + ": view " + std::to_string(v) + " has the wrong number of values");
       checkValues(buffer, v);
+      if (v + 1 < kBtfDirectionCount) loader.run([this, v, &next] { source_.loadView(v + 1, next); });
       level1(buffer, v);
       if (options_.levels >= 2) level2(v);
+      loader.wait();
+      std::swap(buffer, next);
       progress.advance();
     }
     if (options_.levels == 3) {
@@ -197,42 +244,27 @@ class Compressor {
     auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * n2], n2); };
     auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
     std::vector<std::int64_t> match(T, -1);
-    parallelFor(T, [&](std::size_t t) {
-      if (!lit(t)) {
-        match[t] = 0;
-        return;
-      }
-      thread_local std::vector<Codebook::Match> found;
-      book.search(key(t), radius[t], kCandidates, found);
-      for (const auto& m : found)
-        if (chromaPasses(m.index, t, r)) {
-          match[t] = m.index;
-          break;
-        }
-    });
-    Codebook fresh{int(n2)};
-    std::vector<std::uint32_t> fresh_global;
-    std::vector<Codebook::Match> found;
+    for (std::size_t t = 0; t < T; ++t)
+      if (!lit(t)) match[t] = 0;
     std::vector<float> entry(n2);
-    for (std::size_t t = 0; t < T; ++t) {
-      if (match[t] >= 0) continue;
-      fresh.search(key(t), radius[t], kCandidates, found);
-      for (const auto& m : found)
-        if (chromaPasses(fresh_global[m.index], t, r)) {
-          match[t] = fresh_global[m.index];
-          break;
-        }
-      if (match[t] >= 0) continue;
-      const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
-      for (std::size_t i = 0; i < n2; ++i) {
-        const std::int32_t q = std::int32_t(std::lround(double(c[i]) / step));
-        out_.chroma[std::size_t(r)].push_back(q);
-        entry[i] = float(q) * step;
-      }
-      match[t] = book.add(entry);
-      fresh.add(entry);
-      fresh_global.push_back(std::uint32_t(match[t]));
-    }
+    quantizeBatch(
+        book, match,
+        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
+          thread_local std::vector<Codebook::Match> found;
+          book.search(key(t), radius[t], kCandidates, found, options);
+          for (const auto& m : found)
+            if (chromaPasses(m.index, t, r)) return m.index;
+          return -1;
+        },
+        [&](std::size_t t) -> std::int64_t {
+          const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+          for (std::size_t i = 0; i < n2; ++i) {
+            const std::int32_t q = std::int32_t(std::lround(double(c[i]) / step));
+            out_.chroma[std::size_t(r)].push_back(q);
+            entry[i] = float(q) * step;
+          }
+          return book.add(entry);
+        });
     for (std::size_t t = 0; t < T; ++t) chroma_[t * kBtfRingCount + std::size_t(r)] = std::uint32_t(match[t]);
   }
 
@@ -278,63 +310,25 @@ class Compressor {
       }
     });
     chroma_.resize(T * kBtfRingCount);
-    for (int r = 0; r < kBtfRingCount; ++r) quantizeChroma(r);
-
     entries_.assign(T * kBtfRingCount, 0);
     scales_.assign(T * kBtfRingCount, 0);
-    scales_[0] = 0;
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      if (r == 0) {
-        for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount]);
-        continue;
-      }
-      const int n = btfRingSize(r), start = btfRingStart(r);
-      Codebook& book = l1_[std::size_t(r)];
-      auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * kBtfDirectionCount + std::size_t(start)], std::size_t(n)); };
-      auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
-      const double rms = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
-      auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
-      std::vector<std::int64_t> match(T, -1);
-      parallelFor(T, [&](std::size_t t) {
-        if (!lit(t)) {
-          match[t] = 0;
-          return;
-        }
-        thread_local std::vector<Codebook::Match> found;
-        book.search(unit(t), radius(t), 1, found);
-        if (!found.empty()) match[t] = found[0].index;
-      });
-      Codebook fresh(n);
-      std::vector<std::uint32_t> fresh_global;
-      std::vector<Codebook::Match> found;
-      std::vector<float> entry(static_cast<std::size_t>(n));
-      for (std::size_t t = 0; t < T; ++t) {
-        if (match[t] >= 0) continue;
-        fresh.search(unit(t), radius(t), 1, found);
-        if (!found.empty()) {
-          match[t] = fresh_global[found[0].index];
-          continue;
-        }
-        const auto u = unit(t);
-        for (int a = 0; a < n; ++a) {
-          const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)]);
-          out_.l1[std::size_t(r)].push_back(q);
-          entry[std::size_t(a)] = decodeVqEntryValue(q);
-        }
-        match[t] = book.add(entry);
-        fresh.add(entry);
-        fresh_global.push_back(std::uint32_t(match[t]));
-      }
-      parallelFor(T, [&](std::size_t t) {
-        const std::size_t k = t * kBtfRingCount + std::size_t(r);
-        entries_[k] = std::uint32_t(match[t]);
-        if (!lit(t)) return;
-        const float* e = book.entry(std::size_t(match[t]));
-        const double ee = dot(e, e, n);
-        const double fe = norms_[k] * dot(unit(t).data(), e, n);
-        scales_[k] = ee > 0 ? encodeVqScale(float(fe / ee)) : 0;
-      });
-    }
+    for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount]);
+    // The chroma codebooks of the six rings and the level-1 codebooks of rings 1..5 are independent
+    // (each job reads the view and writes only its own codebook and ring slots): they run as
+    // parallel jobs, each deterministic on its own, so their sequential parts overlap. Largest first.
+    constexpr int kJobs = 2 * kBtfRingCount - 1;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, kJobs, 1),
+        [&](const tbb::blocked_range<int>& jobs) {
+          for (int j = jobs.begin(); j != jobs.end(); ++j) {
+            const int ring = kBtfRingCount - 1 - j / 2;
+            if (j % 2 == 0)
+              quantizeChroma(ring);
+            else
+              quantizeLevel1(ring);
+          }
+        },
+        tbb::simple_partitioner());
     if (options_.levels == 1) {
       const std::size_t base = std::size_t(v) * kBtfRingCount;
       parallelFor(T, [&](std::size_t t) {
@@ -349,6 +343,46 @@ class Compressor {
     }
   }
 
+  // Level-1 codes of ring r >= 1 for all texels of the view.
+  void quantizeLevel1(int r) {
+    const std::size_t T = texels_;
+    const int n = btfRingSize(r), start = btfRingStart(r);
+    Codebook& book = l1_[std::size_t(r)];
+    auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * kBtfDirectionCount + std::size_t(start)], std::size_t(n)); };
+    auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
+    const double rms = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
+    auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
+    std::vector<std::int64_t> match(T, -1);
+    for (std::size_t t = 0; t < T; ++t)
+      if (!lit(t)) match[t] = 0;
+    std::vector<float> entry(static_cast<std::size_t>(n));
+    quantizeBatch(
+        book, match,
+        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
+          thread_local std::vector<Codebook::Match> found;
+          book.search(unit(t), radius(t), 1, found, options);
+          return found.empty() ? -1 : std::int64_t(found[0].index);
+        },
+        [&](std::size_t t) -> std::int64_t {
+          const auto u = unit(t);
+          for (int a = 0; a < n; ++a) {
+            const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)]);
+            out_.l1[std::size_t(r)].push_back(q);
+            entry[std::size_t(a)] = decodeVqEntryValue(q);
+          }
+          return book.add(entry);
+        });
+    parallelFor(T, [&](std::size_t t) {
+      const std::size_t k = t * kBtfRingCount + std::size_t(r);
+      entries_[k] = std::uint32_t(match[t]);
+      if (!lit(t)) return;
+      const float* e = book.entry(std::size_t(match[t]));
+      const double ee = dot(e, e, n);
+      const double fe = norms_[k] * dot(unit(t).data(), e, n);
+      scales_[k] = ee > 0 ? encodeVqScale(float(fe / ee)) : 0;
+    });
+  }
+
   // ---- level 2 -------------------------------------------------------------------------------
   // Reconstruction of a light slice from level-1 codes (81 values).
   void reconstructSlice(const std::uint32_t* e1, const std::uint16_t* sc, float* out, const float* rel = nullptr) const {
@@ -359,14 +393,13 @@ class Compressor {
       for (int a = 0; a < n; ++a) out[start + a] = s * e[a];
     }
   }
-  std::uint32_t addLevel2Entry(const std::uint32_t* e1, const std::uint16_t* sc, const std::uint32_t* ch, Codebook* fresh) {
+  std::uint32_t addLevel2Entry(const std::uint32_t* e1, const std::uint16_t* sc, const std::uint32_t* ch) {
     float recon[kBtfDirectionCount];
     reconstructSlice(e1, sc, recon);
     out_.l2_index.insert(out_.l2_index.end(), e1, e1 + kBtfRingCount);
     out_.l2_scale.insert(out_.l2_scale.end(), sc, sc + kBtfRingCount);
     out_.l2_chroma.insert(out_.l2_chroma.end(), ch, ch + kBtfRingCount);
     l2_norm2_.push_back(float(dot(recon, recon, kBtfDirectionCount)));
-    if (fresh) fresh->add(recon);
     return l2_->add(recon);
   }
   bool level2ChromaPasses(std::uint32_t entry, std::size_t t) const {
@@ -394,37 +427,23 @@ class Compressor {
     const double rms = rmsOf(T, [&](std::size_t t) { return slice_norm_[t]; });
     auto radius = [&](std::size_t t) { return radiusFor(slice_norm_[t], rms); };
     std::vector<std::int64_t> match(T, -1);
-    parallelFor(T, [&](std::size_t t) {
-      if (!(slice_norm_[t] > 0)) {
-        match[t] = 0;
-        return;
-      }
-      thread_local std::vector<Codebook::Match> found;
-      l2_->search(unit(t), radius(t), kCandidates, found);
-      for (const auto& m : found)
-        if (level2ChromaPasses(m.index, t)) {
-          match[t] = m.index;
-          break;
-        }
-    });
-    Codebook fresh(kBtfDirectionCount);
-    std::vector<std::uint32_t> fresh_global;
-    std::vector<Codebook::Match> found;
-    for (std::size_t t = 0; t < T; ++t) {
-      if (match[t] >= 0) continue;
-      fresh.search(unit(t), radius(t), kCandidates, found);
-      for (const auto& m : found)
-        if (level2ChromaPasses(fresh_global[m.index], t)) {
-          match[t] = fresh_global[m.index];
-          break;
-        }
-      if (match[t] >= 0) continue;
-      std::uint16_t rel[kBtfRingCount];
-      for (int r = 0; r < kBtfRingCount; ++r)
-        rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t]);
-      match[t] = addLevel2Entry(&entries_[t * kBtfRingCount], rel, &chroma_[t * kBtfRingCount], &fresh);
-      fresh_global.push_back(std::uint32_t(match[t]));
-    }
+    for (std::size_t t = 0; t < T; ++t)
+      if (!(slice_norm_[t] > 0)) match[t] = 0;
+    quantizeBatch(
+        *l2_, match,
+        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
+          thread_local std::vector<Codebook::Match> found;
+          l2_->search(unit(t), radius(t), kCandidates, found, options);
+          for (const auto& m : found)
+            if (level2ChromaPasses(m.index, t)) return m.index;
+          return -1;
+        },
+        [&](std::size_t t) -> std::int64_t {
+          std::uint16_t rel[kBtfRingCount];
+          for (int r = 0; r < kBtfRingCount; ++r)
+            rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t]);
+          return addLevel2Entry(&entries_[t * kBtfRingCount], rel, &chroma_[t * kBtfRingCount]);
+        });
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);
       std::uint16_t code = 0;
@@ -448,7 +467,7 @@ class Compressor {
   }
 
   // ---- level 3 -------------------------------------------------------------------------------
-  std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc, Codebook* fresh) {
+  std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc) {
     float key[kBtfDirectionCount];
     double y2 = 0;
     for (int v = 0; v < kBtfDirectionCount; ++v) {
@@ -458,7 +477,6 @@ class Compressor {
     out_.l3_index.insert(out_.l3_index.end(), e2, e2 + kBtfDirectionCount);
     out_.l3_scale.insert(out_.l3_scale.end(), sc, sc + kBtfDirectionCount);
     l3_norm2_.push_back(float(y2));
-    if (fresh) fresh->add(key);
     return l3_->add(key);
   }
   // x . y and |y|^2 of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
@@ -516,41 +534,22 @@ class Compressor {
     texel_rms_ = rmsOf(T, [&](std::size_t t) { return std::sqrt(texel_norm2_[t]); });
     auto radius = [&](std::size_t t) { return std::min(1.5f * radiusFor(std::sqrt(texel_norm2_[t]), texel_rms_), 1.415f); };
     std::vector<std::int64_t> match(T, -1);
-    for (std::size_t begin = 0; begin < T; begin += kLevel3Batch) {
-      const std::size_t end = std::min(T, begin + kLevel3Batch);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16), [&](const tbb::blocked_range<std::size_t>& range) {
-        thread_local std::vector<Codebook::Match> found;
-        for (std::size_t t = range.begin(); t != range.end(); ++t) {
-          if (!(texel_norm2_[t] > 0)) {
-            match[t] = 0;
-            continue;
-          }
-          l3_->search(key(t), radius(t), kCandidates, found);
+    for (std::size_t t = 0; t < T; ++t)
+      if (!(texel_norm2_[t] > 0)) match[t] = 0;
+    quantizeBatch(
+        *l3_, match,
+        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
+          thread_local std::vector<Codebook::Match> found;
+          l3_->search(key(t), radius(t), kCandidates, found, options);
           for (const auto& m : found)
-            if (level3Passes(t, m.index)) {
-              match[t] = m.index;
-              break;
-            }
-        }
-      });
-      Codebook fresh(kBtfDirectionCount);
-      std::vector<std::uint32_t> fresh_global;
-      std::vector<Codebook::Match> found;
-      for (std::size_t t = begin; t < end; ++t) {
-        if (match[t] >= 0) continue;
-        fresh.search(key(t), radius(t), kCandidates, found);
-        for (const auto& m : found)
-          if (level3Passes(t, fresh_global[m.index])) {
-            match[t] = fresh_global[m.index];
-            break;
-          }
-        if (match[t] >= 0) continue;
-        std::uint16_t rel[kBtfDirectionCount];
-        for (int v = 0; v < kBtfDirectionCount; ++v) rel[v] = encodeVqScale(key(t)[std::size_t(v)]);
-        match[t] = addLevel3Entry(&view_index_[t * kBtfDirectionCount], rel, &fresh);
-        fresh_global.push_back(std::uint32_t(match[t]));
-      }
-    }
+            if (level3Passes(t, m.index)) return m.index;
+          return -1;
+        },
+        [&](std::size_t t) -> std::int64_t {
+          std::uint16_t rel[kBtfDirectionCount];
+          for (int v = 0; v < kBtfDirectionCount; ++v) rel[v] = encodeVqScale(key(t)[std::size_t(v)]);
+          return addLevel3Entry(&view_index_[t * kBtfDirectionCount], rel);
+        });
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);
       out_.top_index[t] = e;

@@ -1,5 +1,5 @@
 // A growing codebook of unit-length vectors for vector quantization (compress/vq_btf.h), searched
-// with FLANN (a kd-tree flann::Index grown by addPoints, one entry at a time).
+// with FLANN kd-trees.
 //
 // Reuse rule. A vector f is approximated by an entry e with its least-squares scale <f, e> / <e, e>;
 // the relative L2 error of that approximation is sin(angle(f, e)). An entry is reusable for f when
@@ -7,18 +7,23 @@
 // |f/|f| - e/|e|| <= 2 sin(asin(epsilon) / 2), so the search is a radius search in L2 (FLANN
 // returns squared distances) with that radius.
 //
-// Determinism. FLANN 1.9's kd-tree shuffles its points with std::random_device whenever it
-// (re)builds, and its "exact" single-tree search (unlimited checks) is in fact approximate: its
-// lower bound adds the split distances of a feature split twice on a path, so it can prune a
-// branch holding the nearest entry, and what it misses depends on the tree. A rebuilt tree thus
-// made results differ from run to run (seen: compressed sizes varying by a few bytes). Here the
-// tree is built from the first entry and grown only by addPoints without rebuilds (FLANN inserts
-// each point into its leaf, splitting on the widest dimension: no randomness), so the tree and
-// every search result are a function of the insertion order alone. The search is approximate
-// kNN in that sense: it may miss a reusable entry (costing an extra entry, never accuracy: every
-// returned match is within the radius); the tests measure how often it disagrees with a scan.
-// Snapshots. Searches are const and may run in parallel (TBB) as long as nothing is inserted
-// meanwhile; the compressor queries a frozen codebook in parallel, then inserts sequentially.
+// Index. Entries are appended unindexed; index() turns them into a segment, an immutable FLANN
+// KDTreeSingleIndex (a bucket kd-tree built once by sliding-midpoint splits: no randomness), and
+// merges it with the last segments while those are not larger (the logarithmic method of Bentley
+// and Saxe: segments shrink from oldest to newest, and when index() is called with similar
+// numbers of new entries, as the compressor does per chunk, their sizes are a binary counter's:
+// O(log n) segments, each entry re-indexed O(log n) times). Unindexed entries are scanned linearly.
+// (FLANN's own incremental KDTreeIndex, grown point by point by addPoints, made search cost grow
+// about linearly with the codebook: its tree is deep and unbalanced, its "exact" search visits
+// most leaves, its bounded search allocates O(n) per query, and its rebuilds shuffle with
+// std::random_device.) Everything is a function of the sequence of add() and index() calls.
+// Search. Exact by default: KDTreeSingleIndex bounds each cell by its true distance, so search()
+// finds what a linear scan finds, up to float rounding at the radius. With max_visits > 0 each
+// kd-tree stops descending after that many node visits (approximate kNN, depth first from the
+// query's own cell: it may miss a reusable entry, which costs an extra entry but never accuracy,
+// since every returned match is within the radius); still deterministic.
+// Snapshots. Searches are const and may run in parallel (TBB) as long as nothing is added or
+// indexed meanwhile; the compressor queries a frozen codebook in parallel, then adds sequentially.
 #pragma once
 
 #include <cstddef>
@@ -31,7 +36,7 @@ namespace btf {
 
 class Codebook {
  public:
-  // dimension >= 1. Entries are stored in blocks that never move: FLANN keeps pointers to them.
+  // dimension >= 1. Entries are stored in blocks that never move (entry() pointers stay valid).
   explicit Codebook(int dimension);
   ~Codebook();
   Codebook(Codebook&&) noexcept;
@@ -41,19 +46,31 @@ class Codebook {
   std::size_t size() const { return size_; }
   const float* entry(std::size_t i) const;
 
-  // Appends an entry (any length; it is stored as given) and returns its index.
+  // Appends an entry (dimension() values, stored as given) and returns its index. It is found by
+  // search() at once, by a linear scan until index() (or until kMaxUnindexed entries wait).
   std::uint32_t add(std::span<const float> values);
+  // Indexes the entries added since the last call (when at least kMinSegment wait; fewer stay in
+  // the linear scan).
+  void index();
+  static constexpr std::size_t kMinSegment = 64, kMaxUnindexed = 8192;
 
   struct Match {
     std::uint32_t index;
     float distance;  // chord distance between the unit directions of query and entry
   };
+  struct SearchOptions {
+    std::uint32_t first = 0;  // only entries with index >= first
+    int max_visits = 0;       // > 0: approximate, at most about this many node visits per kd-tree
+  };
   // Up to max_matches entries whose direction lies within chord distance `radius` of the direction
-  // of `unit_query` (which must have length 1), nearest first; deterministic, may miss entries
-  // (see above). Thread-safe
-  // against other searches.
+  // of `unit_query` (which must have length 1), nearest first (ties: lowest index first); exact
+  // unless options.max_visits > 0 (see above). Thread-safe against other searches.
   void search(std::span<const float> unit_query, float radius, std::size_t max_matches,
-              std::vector<Match>& out) const;
+              std::vector<Match>& out, const SearchOptions& options) const;
+  void search(std::span<const float> unit_query, float radius, std::size_t max_matches,
+              std::vector<Match>& out) const {
+    search(unit_query, radius, max_matches, out, SearchOptions{});
+  }
 
   // The same by linear scan, for tests (FLANN must agree with it).
   void searchBruteForce(std::span<const float> unit_query, float radius, std::size_t max_matches,
@@ -63,12 +80,14 @@ class Codebook {
   static float chordRadius(float epsilon);
 
  private:
-  struct Index;
+  struct Segment;
+  void buildSegment(std::size_t end);
   int dim_;
   std::size_t size_ = 0;
-  std::vector<std::unique_ptr<float[]>> blocks_;
-  std::vector<std::unique_ptr<float[]>> unit_blocks_;  // unit directions, indexed by FLANN
-  std::unique_ptr<Index> index_;
+  std::vector<std::unique_ptr<float[]>> blocks_;    // the entries as given
+  std::vector<std::unique_ptr<Segment>> segments_;  // kd-trees over consecutive entries, largest first
+  std::size_t indexed_ = 0;                         // entries [0, indexed_) are in segments
+  std::vector<float> tail_units_;                   // unit directions of the entries [indexed_, size_)
 };
 
 }  // namespace btf

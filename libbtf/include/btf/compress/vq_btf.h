@@ -4,7 +4,10 @@
 // Level 1: the data is cut into small 1D functions over light azimuth (fixed texel, view and light
 // ring; ring sizes 1, 6, 12, 18, 20, 24 as in btf_directions.h), each normalized by a stored scale
 // and inserted one by one into a codebook searched with FLANN (compress/codebook.h): the nearest
-// entry is reused when within the tolerance, else the function becomes a new entry.
+// entry the search finds is reused when within the tolerance, else the function becomes a new
+// entry. (The search is approximate, a bounded number of kd-tree visits, so that compression time
+// grows about linearly with the texel count: it may miss a reusable entry, costing an extra entry,
+// never accuracy: the tolerances below hold for every entry reused.)
 // Level 2: the (index, scale) vectors of one 2D light slice (fixed texel and view) are quantized
 // again; level 3: the vectors of a texel's slices over all views. Colour: luminance goes through
 // the levels above; chromaticity (R/Y, B/Y) per light, as one 1D function per ring (2 x n values),
