@@ -50,26 +50,22 @@ const BtfBenchFixture& btfFixture() {
   return f;
 }
 
-void runBtfEval(benchmark::State& state, const btf::Material& material) {
+// One call per query of the fixture, in order; items = queries.
+template <class Call>
+void runQueries(benchmark::State& state, Call call) {
   const auto& queries = btfFixture().queries;
   const std::size_t mask = queries.size() - 1;
   std::size_t i = 0;
-  for (auto _ : state) {
-    const auto& q = queries[i++ & mask];
-    benchmark::DoNotOptimize(material.eval(q.wi, q.wo, q.uv));
-  }
+  for (auto _ : state) benchmark::DoNotOptimize(call(queries[i++ & mask]));
   state.SetItemsProcessed(std::int64_t(state.iterations()));
 }
 
+void runBtfEval(benchmark::State& state, const btf::Material& material) {
+  runQueries(state, [&](const BtfBenchFixture::Query& q) { return material.eval(q.wi, q.wo, q.uv); });
+}
+
 void runBtfSample(benchmark::State& state, const btf::Material& material) {
-  const auto& queries = btfFixture().queries;
-  const std::size_t mask = queries.size() - 1;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const auto& q = queries[i++ & mask];
-    benchmark::DoNotOptimize(material.sample(q.wo, q.uv, q.u));
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()));
+  runQueries(state, [&](const BtfBenchFixture::Query& q) { return material.sample(q.wo, q.uv, q.u); });
 }
 
 void BM_BtfEvalLafortune1(benchmark::State& state) { runBtfEval(state, btfFixture().lafortune); }
@@ -79,15 +75,8 @@ void BM_BtfEvalDataNearest(benchmark::State& state) { runBtfEval(state, btfFixtu
 void BM_BtfSampleVq(benchmark::State& state) { runBtfSample(state, btfFixture().vq_nearest); }
 // The direction and its pdf alone (no eval for the weight): the twofold search's own cost.
 void BM_BtfSampleDirectionVq(benchmark::State& state) {
-  const auto& queries = btfFixture().queries;
   const btf::BtfMaterial& m = btfFixture().vq_nearest;
-  const std::size_t mask = queries.size() - 1;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const auto& q = queries[i++ & mask];
-    benchmark::DoNotOptimize(m.sampleDirection(q.wo, q.uv, q.u));
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()));
+  runQueries(state, [&](const BtfBenchFixture::Query& q) { return m.sampleDirection(q.wo, q.uv, q.u); });
 }
 void BM_BtfSampleData(benchmark::State& state) { runBtfSample(state, btfFixture().data_nearest); }
 void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFixture().lafortune); }
@@ -96,16 +85,10 @@ void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFi
 // no interpolation, the random access that decompression-based renderers make.
 void BM_BtfDecodeVqValue(benchmark::State& state) {
   const btf::VqBtf& vq = *btfFixture().vq;
-  const auto& queries = btfFixture().queries;
-  const std::size_t mask = queries.size() - 1;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const auto& q = queries[i++ & mask];
-    const int x = int(q.uv.x * 16.0f), y = int(q.uv.y * 16.0f);
-    const int view = int(q.u.x * float(btf::kBtfDirectionCount)), light = int(q.u.y * float(btf::kBtfDirectionCount));
-    benchmark::DoNotOptimize(vq.value(x, y, view, light));
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()));
+  runQueries(state, [&](const BtfBenchFixture::Query& q) {
+    return vq.value(int(q.uv.x * 16.0f), int(q.uv.y * 16.0f), int(q.u.x * float(btf::kBtfDirectionCount)),
+                    int(q.u.y * float(btf::kBtfDirectionCount)));
+  });
 }
 
 // The same samples through the stream call (VqBtf::values, AVX2 lanes), blocks of 256.
