@@ -1,5 +1,5 @@
-// The vector path of DpCdfSampler::sampleDirections and pdfs (dp_cdf_sampler.h): eight queries
-// per step in AVX2 lanes, with the searches done by gathers.
+// The vector path of DpCdfSampler::sampleDirections and pdfs (dp_cdf_sampler.h): 32 queries per
+// step in AVX2 lanes (four vectors of eight), with the searches done by gathers.
 //
 // Written with intrinsics by hand: GCC's vectorizer emits no gathers for generic tuning, and the
 // arithmetic has to be the scalar path's, operation for operation, so that a query gives the same
@@ -23,8 +23,9 @@
 namespace btf {
 namespace {
 
-// Queries per step: two vectors of eight, interleaved step by step, so that one vector's gathers
-// run while the other waits for its own (the searches are chains of dependent gathers).
+// Queries per step: four vectors of eight, interleaved step by step, so that one vector's gathers
+// run while another waits for its own (the searches are chains of dependent gathers; eight
+// vectors measured no faster than four).
 constexpr int kVectors = 4;
 constexpr int kLanes = 8 * kVectors;
 static_assert(kLanes <= 64, "lane masks are 64-bit");

@@ -52,7 +52,7 @@ class BtfLookup {
   virtual Rgb value(int x, int y, int view, int light) const = 0;
   // A stream of lookups (after Embree's stream calls): out[i] = value(samples[i]), bit for bit.
   // Throws btf::Error for spans of different sizes or an index outside the BTF (naming it). The
-  // default loops; VqBtf decodes eight samples per step in AVX2 lanes where the CPU has them.
+  // default loops; VqBtf decodes 32 samples per step in AVX2 lanes where the CPU has them.
   virtual void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const;
 
  protected:

@@ -124,7 +124,7 @@ class BinnedSampler : public Material {
   // Streams of queries, after Embree's packet and stream calls: out[i] is sampleDirection(wo[i],
   // u[i]) and pdfs' out[i] is pdf(wi[i], wo[i]), bit for bit, whatever the machine; a query with
   // no sample gets {wi = 0, pdf = 0}. The spans must have equal sizes (btf::Error otherwise). The
-  // defaults loop over the single queries; DpCdfSampler runs eight queries per step in AVX2 lanes
+  // defaults loop over the single queries; DpCdfSampler runs 32 queries per step in AVX2 lanes
   // when the CPU has AVX2 (dp_cdf_sampler.h), which is what renderers that trace wavefronts of
   // paths (and the benchmarks) call.
   virtual void sampleDirections(std::span<const glm::vec3> wo, std::span<const glm::vec2> u,

@@ -53,7 +53,7 @@ class DpCdfSampler final : public BinnedSampler {
   // Step of the stored CDF values: 1 / 65535 for 16-bit storage, 0 for floats.
   double cdfQuantum() const { return narrow_ ? 1.0 / 65535.0 : 0.0; }
 
-  // Eight queries per step in AVX2 lanes (gathers for the searches, the scalar path's arithmetic
+  // 32 queries per step in AVX2 lanes (gathers for the searches, the scalar path's arithmetic
   // operation for operation, so the results are the single queries' bit for bit); lanes whose
   // draw lies within kCellMargin of a cell border take the scalar pdf. Used for isotropic
   // materials with 16-bit CDFs on CPUs with AVX2; otherwise the single queries run in a loop.
