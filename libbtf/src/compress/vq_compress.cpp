@@ -61,6 +61,27 @@ namespace {
 
 constexpr std::uint32_t kNoChroma = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kCandidates = 8;
+
+// The first of up to max_matches codebook entries within radius of query (nearest first) that
+// passes(entry index) accepts, or -1. The candidate list is per thread: searches run in parallel.
+template <class Passes>
+std::int64_t firstPassing(const Codebook& book, std::span<const float> query, float radius, std::size_t max_matches,
+                          const Codebook::SearchOptions& options, Passes passes) {
+  thread_local std::vector<Codebook::Match> found;
+  book.search(query, radius, max_matches, found, options);
+  for (const auto& m : found)
+    if (passes(m.index)) return m.index;
+  return -1;
+}
+
+// Per vector of a batch: 0 (entry 0, any entry will do) where it is dark, -1 (to be quantized) elsewhere.
+template <class Lit>
+std::vector<std::int64_t> initialMatches(std::size_t count, Lit lit) {
+  std::vector<std::int64_t> match(count, -1);
+  for (std::size_t t = 0; t < count; ++t)
+    if (!lit(t)) match[t] = 0;
+  return match;
+}
 // Vectors per chunk: the sequential part scans up to this many new entries per unmatched vector,
 // the parallel part wants enough work per chunk to keep the threads busy.
 constexpr std::size_t kChunk = 128;
@@ -243,18 +264,13 @@ class Compressor {
     });
     auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * n2], n2); };
     auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
-    std::vector<std::int64_t> match(T, -1);
-    for (std::size_t t = 0; t < T; ++t)
-      if (!lit(t)) match[t] = 0;
+    std::vector<std::int64_t> match = initialMatches(T, lit);
     std::vector<float> entry(n2);
     quantizeBatch(
         book, match,
-        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
-          thread_local std::vector<Codebook::Match> found;
-          book.search(key(t), radius[t], kCandidates, found, options);
-          for (const auto& m : found)
-            if (chromaPasses(m.index, t, r)) return m.index;
-          return -1;
+        [&](std::size_t t, const Codebook::SearchOptions& options) {
+          return firstPassing(book, key(t), radius[t], kCandidates, options,
+                              [&](std::uint32_t e) { return chromaPasses(e, t, r); });
         },
         [&](std::size_t t) -> std::int64_t {
           const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
@@ -352,16 +368,12 @@ class Compressor {
     auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
     const double rms = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
     auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
-    std::vector<std::int64_t> match(T, -1);
-    for (std::size_t t = 0; t < T; ++t)
-      if (!lit(t)) match[t] = 0;
+    std::vector<std::int64_t> match = initialMatches(T, lit);
     std::vector<float> entry(static_cast<std::size_t>(n));
     quantizeBatch(
         book, match,
-        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
-          thread_local std::vector<Codebook::Match> found;
-          book.search(unit(t), radius(t), 1, found, options);
-          return found.empty() ? -1 : std::int64_t(found[0].index);
+        [&](std::size_t t, const Codebook::SearchOptions& options) {
+          return firstPassing(book, unit(t), radius(t), 1, options, [](std::uint32_t) { return true; });
         },
         [&](std::size_t t) -> std::int64_t {
           const auto u = unit(t);
@@ -426,17 +438,12 @@ class Compressor {
     auto unit = [&](std::size_t t) { return std::span<const float>(&slices_[t * kBtfDirectionCount], kBtfDirectionCount); };
     const double rms = rmsOf(T, [&](std::size_t t) { return slice_norm_[t]; });
     auto radius = [&](std::size_t t) { return radiusFor(slice_norm_[t], rms); };
-    std::vector<std::int64_t> match(T, -1);
-    for (std::size_t t = 0; t < T; ++t)
-      if (!(slice_norm_[t] > 0)) match[t] = 0;
+    std::vector<std::int64_t> match = initialMatches(T, [&](std::size_t t) { return slice_norm_[t] > 0; });
     quantizeBatch(
         *l2_, match,
-        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
-          thread_local std::vector<Codebook::Match> found;
-          l2_->search(unit(t), radius(t), kCandidates, found, options);
-          for (const auto& m : found)
-            if (level2ChromaPasses(m.index, t)) return m.index;
-          return -1;
+        [&](std::size_t t, const Codebook::SearchOptions& options) {
+          return firstPassing(*l2_, unit(t), radius(t), kCandidates, options,
+                              [&](std::uint32_t e) { return level2ChromaPasses(e, t); });
         },
         [&](std::size_t t) -> std::int64_t {
           std::uint16_t rel[kBtfRingCount];
@@ -533,17 +540,12 @@ class Compressor {
     auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * kBtfDirectionCount], kBtfDirectionCount); };
     texel_rms_ = rmsOf(T, [&](std::size_t t) { return std::sqrt(texel_norm2_[t]); });
     auto radius = [&](std::size_t t) { return std::min(1.5f * radiusFor(std::sqrt(texel_norm2_[t]), texel_rms_), 1.415f); };
-    std::vector<std::int64_t> match(T, -1);
-    for (std::size_t t = 0; t < T; ++t)
-      if (!(texel_norm2_[t] > 0)) match[t] = 0;
+    std::vector<std::int64_t> match = initialMatches(T, [&](std::size_t t) { return texel_norm2_[t] > 0; });
     quantizeBatch(
         *l3_, match,
-        [&](std::size_t t, const Codebook::SearchOptions& options) -> std::int64_t {
-          thread_local std::vector<Codebook::Match> found;
-          l3_->search(key(t), radius(t), kCandidates, found, options);
-          for (const auto& m : found)
-            if (level3Passes(t, m.index)) return m.index;
-          return -1;
+        [&](std::size_t t, const Codebook::SearchOptions& options) {
+          return firstPassing(*l3_, key(t), radius(t), kCandidates, options,
+                              [&](std::uint32_t e) { return level3Passes(t, e); });
         },
         [&](std::size_t t) -> std::int64_t {
           std::uint16_t rel[kBtfDirectionCount];

@@ -10,8 +10,7 @@
 
 #include "btf/core/error.h"
 #include "vq_impl.h"
-
-#define BTF_AVX2 __attribute__((target("avx2")))
+#include "../core/avx2.h"
 
 namespace btf {
 namespace {
@@ -27,11 +26,6 @@ struct LightCodes {
 const LightCodes& lightCodes() {
   static const LightCodes codes;
   return codes;
-}
-
-bool cpuHasAvx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
 }
 
 // Samples per step: four vectors of eight, interleaved step by step so that one vector's gathers

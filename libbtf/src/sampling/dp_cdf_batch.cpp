@@ -17,8 +17,7 @@
 
 #include "btf/core/error.h"
 #include "btf/sampling/dp_cdf_sampler.h"
-
-#define BTF_AVX2 __attribute__((target("avx2")))
+#include "../core/avx2.h"
 
 namespace btf {
 namespace {
@@ -336,11 +335,6 @@ BTF_AVX2 void pdfLanes(const Tables& t, Lanes& l) {
                                    _mm256_set1_ps(t.pdf_scale));
     _mm256_store_ps(l.pdf + 8 * j, _mm256_and_ps(p, in_domain[j]));
   }
-}
-
-bool cpuHasAvx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
 }
 
 bool finite(float v) { return std::isfinite(v); }
