@@ -5,6 +5,8 @@
 // with levels = 3, epsilon = 0.02. Directions, uv and random numbers are drawn before timing.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
@@ -82,40 +84,61 @@ void BM_BtfSampleData(benchmark::State& state) { runBtfSample(state, btfFixture(
 void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFixture().lafortune); }
 
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
-// no interpolation, the random access that decompression-based renderers make.
-void BM_BtfDecodeVqValue(benchmark::State& state) {
-  const btf::VqBtf& vq = *btfFixture().vq;
-  runQueries(state, [&](const BtfBenchFixture::Query& q) {
-    return vq.value(int(q.uv.x * 16.0f), int(q.uv.y * 16.0f), int(q.u.x * float(btf::kBtfDirectionCount)),
-                    int(q.u.y * float(btf::kBtfDirectionCount)));
-  });
+// no interpolation, the random access that decompression-based renderers make. Its rate depends on
+// whether the tables it walks stay in cache, so it runs on the GGX pattern at 4 x 4 to 32 x 32
+// texels (argument), whose tables grow with it (counter table_MB; this machine's L2: 2 MB per core).
+struct DecodeFixture {
+  std::shared_ptr<const btf::VqBtf> vq;
+  std::vector<btf::BtfSampleIndex> samples;
+};
+const DecodeFixture& decodeFixture(int size) {
+  static std::map<int, DecodeFixture> fixtures;
+  auto [it, added] = fixtures.try_emplace(size);
+  if (added) {
+    it->second.vq = std::make_shared<const btf::VqBtf>(btf::compressVq(btf::test::makeGgxBtf(size, size, false), {}));
+    btf::Rng rng(78);
+    it->second.samples.resize(1 << 16);
+    for (auto& s : it->second.samples) {
+      const glm::vec2 a = rng.uniform2D(), b = rng.uniform2D();
+      s = {std::min(int(a.x * float(size)), size - 1), std::min(int(a.y * float(size)), size - 1),
+           std::min(int(b.x * float(btf::kBtfDirectionCount)), btf::kBtfDirectionCount - 1),
+           std::min(int(b.y * float(btf::kBtfDirectionCount)), btf::kBtfDirectionCount - 1)};
+    }
+  }
+  return it->second;
 }
 
-// The same samples through the stream call (VqBtf::values, AVX2 lanes), blocks of 256.
-void BM_BtfDecodeVqStream(benchmark::State& state) {
-  const btf::VqBtf& vq = *btfFixture().vq;
-  const auto& queries = btfFixture().queries;
-  std::vector<btf::BtfSampleIndex> samples(queries.size());
-  for (std::size_t k = 0; k < queries.size(); ++k) {
-    const auto& q = queries[k];
-    samples[k] = {int(q.uv.x * 16.0f), int(q.uv.y * 16.0f), int(q.u.x * float(btf::kBtfDirectionCount)),
-                  int(q.u.y * float(btf::kBtfDirectionCount))};
+void BM_BtfDecodeVqValue(benchmark::State& state) {
+  const DecodeFixture& f = decodeFixture(int(state.range(0)));
+  const std::size_t mask = f.samples.size() - 1;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const btf::BtfSampleIndex& s = f.samples[i++ & mask];
+    benchmark::DoNotOptimize(f.vq->value(s.x, s.y, s.view, s.light));
   }
+  state.SetItemsProcessed(std::int64_t(state.iterations()));
+  state.counters["table_MB"] = double(f.vq->lookupTableBytes()) / 1e6;
+}
+
+// The same samples through the stream call (VqBtf::values), blocks of 256.
+void BM_BtfDecodeVqStream(benchmark::State& state) {
+  const DecodeFixture& f = decodeFixture(int(state.range(0)));
   constexpr std::size_t kBlock = 256;
   std::vector<btf::Rgb> out(kBlock);
   std::size_t i = 0;
   for (auto _ : state) {
-    vq.values(std::span(samples.data() + i, kBlock), out);
+    f.vq->values(std::span(f.samples.data() + i, kBlock), out);
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
-    i = (i + kBlock) & (samples.size() - 1);
+    i = (i + kBlock) & (f.samples.size() - 1);
   }
   state.SetItemsProcessed(std::int64_t(state.iterations() * kBlock));
+  state.counters["table_MB"] = double(f.vq->lookupTableBytes()) / 1e6;
 }
 
 BENCHMARK(BM_BtfEvalLafortune1);
-BENCHMARK(BM_BtfDecodeVqValue);
-BENCHMARK(BM_BtfDecodeVqStream);
+BENCHMARK(BM_BtfDecodeVqValue)->Arg(4)->Arg(8)->Arg(16)->Arg(32);
+BENCHMARK(BM_BtfDecodeVqStream)->Arg(4)->Arg(8)->Arg(16)->Arg(32);
 BENCHMARK(BM_BtfEvalVqBilinear);
 BENCHMARK(BM_BtfEvalVqNearest);
 BENCHMARK(BM_BtfEvalDataNearest);

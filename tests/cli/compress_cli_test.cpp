@@ -102,8 +102,10 @@ TEST(BenchCompression, QuickRunWritesBothCsvFilesWithVqAndPcaRows) {
   const CommandResult r = runBtf({"bench", "compression", "--quick", "-o", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string csv = readBytes(out / "compression.csv");
-  EXPECT_THAT(csv, HasSubstr("method,material,texels,epsilon,levels,components,bytes,ratio_u8,ratio_f32,rel_rmse,psnr_db"));
-  EXPECT_THAT(csv, HasSubstr("\nvq,fabric,64,"));
+  EXPECT_THAT(csv, HasSubstr("method,material,texels,epsilon,levels,components,bytes,ratio_u8,ratio_f32,rel_rmse,psnr_db,"
+                             "compression_s,evals_per_s,chroma_epsilon\n"));
+  EXPECT_THAT(csv, HasSubstr("\nvq,fabric,64,0.04,"));
+  EXPECT_THAT(csv, HasSubstr(",0.02\n"));  // the chroma tolerance follows epsilon (--chroma-scale 0.5)
   EXPECT_THAT(csv, HasSubstr("\npca,fabric,64,"));
   const std::string brdfs = readBytes(out / "brdf_compression.csv");
   EXPECT_THAT(brdfs, HasSubstr("plastic-red,"));

@@ -1,5 +1,5 @@
 // BtfLookup::values, the stream of measured-sample lookups: bit for bit value() on every form
-// (the VqBtf's AVX2 lanes at three levels, its loop at one and two, the in-memory data), and the
+// (the VqBtf's grouped lookups at three levels, its loop at one and two, the in-memory data), and the
 // bad-input checks.
 #include <gtest/gtest.h>
 

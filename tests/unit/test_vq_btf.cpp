@@ -111,16 +111,16 @@ TEST(VqBtf, PurelyRelativeToleranceHasTheTighterBound) {
 TEST(VqBtf, EpsilonZeroIsNearLossless) {
   btf::VqOptions options;
   options.epsilon = 0.0f;
-  options.chroma_epsilon = 1e-4f;
+  options.chroma_epsilon = btf::kVqMinChromaEpsilon;
   const btf::VqBtf vq = btf::compressVq(constantChromaBtf(), options);
   EXPECT_LT(btf::test::luminanceRelRmse(constantChromaBtf(), vq), 2e-3);
   EXPECT_LT(btf::compareBtf(constantChromaBtf(), vq).rel_rmse, 2e-3);
 }
 
-// RGB bound of vq_btf.h: rel_rmse(RGB) <= kmax / sqrt(1.7797) * lum + sqrt(1.0986 / 1.7797) * ce,
-// with lum the measured luminance rel_rmse and kmax the largest |RGB| / luminance of the decoded
+// RGB bound of vq_btf.h: rel_rmse(RGB) <= kmax / sqrt(1.7797) * lum
+//   + sqrt(1.0986 / 1.7797) * ce * sqrt(1 + energy_floor^2), with lum the measured luminance rel_rmse and kmax the largest |RGB| / luminance of the decoded
 // data (largest chroma amplitude); 1.7797 = min |RGB|^2 / Y^2, 1.0986 = max |dRGB|^2 / |d(R/Y, B/Y)|^2.
-static double rgbBound(const btf::BtfSource& decoded, double lum, float chroma_epsilon) {
+static double rgbBound(const btf::BtfSource& decoded, double lum, float chroma_epsilon, float energy_floor) {
   std::vector<btf::Rgb> values;
   double kmax = 0;
   for (int v = 0; v < btf::kBtfDirectionCount; ++v) {
@@ -129,7 +129,8 @@ static double rgbBound(const btf::BtfSource& decoded, double lum, float chroma_e
       if (c.luminance() > 0)
         kmax = std::max(kmax, std::sqrt(double(c.r) * c.r + double(c.g) * c.g + double(c.b) * c.b) / c.luminance());
   }
-  return kmax / std::sqrt(1.7797) * lum + std::sqrt(1.0986 / 1.7797) * chroma_epsilon + 1e-4;
+  return kmax / std::sqrt(1.7797) * lum +
+         std::sqrt(1.0986 / 1.7797) * chroma_epsilon * std::sqrt(1.0 + double(energy_floor) * energy_floor) + 1e-4;
 }
 
 // RGB rel_rmse of the exact luminance with one chromaticity per ring (the energy-weighted mean):
@@ -176,7 +177,7 @@ TEST(VqBtf, RgbErrorOfDirectionDependentColourFollowsBothTolerances) {
     const btf::VqBtf vq = btf::compressVq(data, options);
     const double lum = btf::test::luminanceRelRmse(data, vq);
     const double rgb = btf::compareBtf(data, vq).rel_rmse;
-    const double bound = rgbBound(vq, lum, c.chroma_epsilon);
+    const double bound = rgbBound(vq, lum, c.chroma_epsilon, options.energy_floor);
     std::printf("levels %d, epsilon %.2f, chroma_epsilon %.2f: rgb rel_rmse %.4f <= bound %.4f (luminance %.4f)\n",
                 c.levels, double(c.epsilon), double(c.chroma_epsilon), rgb, bound, lum);
     EXPECT_LE(lum, luminanceBound(c.epsilon, c.levels));
@@ -310,6 +311,22 @@ TEST(VqBtf, ReaderRejectsCorruptAndSemanticallyInvalidFiles) {
   } catch (const btf::FileError& e) {
     EXPECT_NE(std::string(e.what()).find("partial entry"), std::string::npos) << e.what();
   }
+  // A chromaticity beyond the 16-bit grid the decoder keeps: the section's byte planes (vq_io.cpp:
+  // a width byte, then plane b holds byte b of every value) widened to three, the first value + 2^16.
+  const auto wide = rewrite("wide", [&](auto& sections) {
+    auto& chroma = find(sections, "chroma/ring1");
+    ASSERT_EQ(int(chroma.data[0]), 2);
+    const std::size_t count = (chroma.data.size() - 1) / 2;
+    chroma.data[0] = std::byte(3);
+    chroma.data.resize(1 + 3 * count, std::byte(0));
+    chroma.data[1 + 2 * count] = std::byte(1);
+  });
+  try {
+    btf::VqBtf::read(wide);
+    ADD_FAILURE() << "chromaticity beyond 16 bits accepted";
+  } catch (const btf::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("16-bit grid"), std::string::npos) << e.what();
+  }
   const auto missing = rewrite("missing", [&](auto& sections) {
     std::erase_if(sections, [](const btf::ContainerSection& s) { return s.name == "level3/scale"; });
   });
@@ -322,6 +339,9 @@ TEST(VqBtf, RejectsInvalidOptionsAndData) {
   EXPECT_THROW(btf::compressVq(constantChromaBtf(), options), btf::Error);
   options = {};
   options.epsilon = -0.1f;
+  EXPECT_THROW(btf::compressVq(constantChromaBtf(), options), btf::Error);
+  options = {};
+  options.chroma_epsilon = 0.5f * btf::kVqMinChromaEpsilon;  // its grid would not fit 16 bits
   EXPECT_THROW(btf::compressVq(constantChromaBtf(), options), btf::Error);
   btf::BtfData bad(2, 2, "bad");
   bad.at(1, 0, 3, 7) = btf::Rgb(-1.0f);

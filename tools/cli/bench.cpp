@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_compressibility.h"
 #include "bench_compression.h"
 #include "bench_materials.h"
 #include "bench_summary.h"
@@ -201,6 +202,7 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "Output folder (sampling.csv and the charts)")->required();
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);
+  addBenchCompressibilityCommand(*bench);
 }
 
 }  // namespace btf::cli

@@ -102,7 +102,7 @@ void registerCompressCommands(CLI::App& app) {
       ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--chroma-epsilon", args->vq.chroma_epsilon, "Absolute tolerance of the chromaticity (R/Y, B/Y) per light")
       ->capture_default_str()
-      ->check(CLI::Range(1e-5f, 1.0f));
+      ->check(CLI::Range(kVqMinChromaEpsilon, 1.0f));
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")
       ->capture_default_str()
       ->check(CLI::Range(1, 3));

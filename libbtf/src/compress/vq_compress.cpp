@@ -43,6 +43,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -243,8 +244,16 @@ class Compressor {
       const double d = double(e[a]) - c[a], w = u[a / 2];
       err += w * w * d * d;
     }
-    const double ce = options_.chroma_epsilon;
+    const double ce = chromaTolerance(t, r);
     return err <= ce * ce;
+  }
+  // The chroma tolerance of texel t's ring r in the current view: chroma_epsilon, widened for
+  // dark rings by the same energy floor as the luminance (vq_btf.h): a ring far below the view's
+  // RMS ring norm adds little to the RGB error whatever its chromaticity.
+  double chromaTolerance(std::size_t t, int r) const {
+    const double len = norms_[t * kBtfRingCount + std::size_t(r)];
+    const double floor = double(options_.energy_floor) * ring_rms_[std::size_t(r)];
+    return double(options_.chroma_epsilon) * (len >= floor || !(len > 0) ? 1.0 : floor / len);
   }
   // Chroma entries of ring r for all texels of the view (lit rings; unlit ones take entry 0), in
   // the same snapshot-then-sequential order as level 1.
@@ -260,7 +269,7 @@ class Compressor {
       const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
       const float len = norm(c, int(n2));
       for (std::size_t i = 0; i < n2; ++i) keys[t * n2 + i] = len > 0 ? c[i] / len : 0.0f;
-      radius[t] = Codebook::chordRadius(len > 0 ? float(std::min(1.0, 4.0 * options_.chroma_epsilon * std::sqrt(double(n)) / len)) : 1.0f);
+      radius[t] = Codebook::chordRadius(len > 0 ? float(std::min(1.0, 4.0 * chromaTolerance(t, r) * std::sqrt(double(n)) / len)) : 1.0f);
     });
     auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * n2], n2); };
     auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
@@ -325,6 +334,8 @@ class Compressor {
         }
       }
     });
+    for (int r = 0; r < kBtfRingCount; ++r)
+      ring_rms_[std::size_t(r)] = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
     chroma_.resize(T * kBtfRingCount);
     entries_.assign(T * kBtfRingCount, 0);
     scales_.assign(T * kBtfRingCount, 0);
@@ -366,7 +377,7 @@ class Compressor {
     Codebook& book = l1_[std::size_t(r)];
     auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * kBtfDirectionCount + std::size_t(start)], std::size_t(n)); };
     auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
-    const double rms = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
+    const double rms = ring_rms_[std::size_t(r)];
     auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
     std::vector<std::int64_t> match = initialMatches(T, lit);
     std::vector<float> entry(static_cast<std::size_t>(n));
@@ -573,6 +584,7 @@ class Compressor {
   std::vector<Codebook> chroma_books_;  // per ring, decoded chroma functions (2 n values)
   // Per view (level 1 -> level 2).
   std::vector<float> units_, norms_, slices_, slice_norm_, cfun_;
+  std::array<double, kBtfRingCount> ring_rms_{};  // RMS of each ring's luminance norms over the texels
   std::vector<std::uint32_t> chroma_, entries_;
   std::vector<std::uint16_t> scales_;
   // Per (texel, view) for level 3.
@@ -587,8 +599,9 @@ class Compressor {
 VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   if (!(options.epsilon >= 0.0f) || !(options.epsilon < 1.0f))
     throw Error("VQ tolerance epsilon = " + std::to_string(options.epsilon) + " is invalid: must be in [0, 1)");
-  if (!(options.chroma_epsilon > 0.0f) || !(options.chroma_epsilon <= 1.0f))
-    throw Error("VQ chroma_epsilon = " + std::to_string(options.chroma_epsilon) + " is invalid: must be in (0, 1]");
+  if (!(options.chroma_epsilon >= kVqMinChromaEpsilon) || !(options.chroma_epsilon <= 1.0f))
+    throw Error("VQ chroma_epsilon = " + std::to_string(options.chroma_epsilon) + " is invalid: must be in [" +
+                std::to_string(kVqMinChromaEpsilon) + ", 1]");
   if (options.levels < 1 || options.levels > 3)
     throw Error("VQ levels = " + std::to_string(options.levels) + " is invalid: must be 1, 2 or 3");
   if (!(options.energy_floor >= 0.0f) || !std::isfinite(options.energy_floor))

@@ -10,19 +10,6 @@
 
 namespace btf {
 
-namespace {
-struct LightTable {
-  std::array<std::uint8_t, kBtfDirectionCount> ring{}, azimuth{};
-  constexpr LightTable() {
-    for (int r = 0; r < kBtfRingCount; ++r)
-      for (int a = 0; a < btfRingSize(r); ++a) {
-        ring[std::size_t(btfRingStart(r) + a)] = std::uint8_t(r);
-        azimuth[std::size_t(btfRingStart(r) + a)] = std::uint8_t(a);
-      }
-  }
-};
-constexpr LightTable kLights;
-}  // namespace
 
 namespace {
 template <class T>
@@ -97,6 +84,11 @@ void VqBtf::Impl::prepare(const std::string& what) {
       checkIndices(top_index, l3Count(), what, "top/index");
     }
   }
+  for (int r = 0; r < kBtfRingCount; ++r)
+    for (std::int32_t g : chroma[std::size_t(r)])
+      if (g > 65535)
+        throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " holds " + std::to_string(g) +
+                    ", beyond the 16-bit grid");
   // Decoded tables.
   for (int r = 0; r < kBtfRingCount; ++r) {
     const std::size_t n = std::size_t(btfRingSize(r)), count = l1Count(r);
@@ -111,35 +103,39 @@ void VqBtf::Impl::prepare(const std::string& what) {
       sum[e] = float(buildCdf1D(std::span<const float>(&values[e * n], n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
     }
   }
-  const float step = vqChromaStep(options.chroma_epsilon);
-  for (int r = 0; r < kBtfRingCount; ++r) {
-    const auto& grid = chroma[std::size_t(r)];
-    auto& rgb = chroma_rgb[std::size_t(r)];
-    rgb.resize(grid.size() / 2 * 3);
-    for (std::size_t c = 0; c < grid.size() / 2; ++c) {
-      const float cr = float(grid[2 * c]) * step, cb = float(grid[2 * c + 1]) * step;
-      rgb[3 * c] = cr;
-      rgb[3 * c + 1] = std::max((1.0f - 0.2126f * cr - 0.0722f * cb) / 0.7152f, 0.0f);
-      rgb[3 * c + 2] = cb;
-    }
-  }
-  auto decode = [](const std::vector<std::uint16_t>& codes, std::vector<float>& out) {
-    out.resize(codes.size());
-    std::transform(codes.begin(), codes.end(), out.begin(), decodeVqScale);
-  };
-  decode(l2_scale, l2_scale_f);
-  decode(l3_scale, l3_scale_f);
-  decode(top_scale, top_scale_f);
+  chroma_step = vqChromaStep(options.chroma_epsilon);
   l1_flat.clear();
   chroma_flat.clear();
   for (int r = 0; r < kBtfRingCount; ++r) {
-    if (l1_flat.size() + l1_values[std::size_t(r)].size() > std::size_t(INT32_MAX) ||
-        chroma_flat.size() + chroma_rgb[std::size_t(r)].size() > std::size_t(INT32_MAX))
+    if (l1_flat.size() + l1[std::size_t(r)].size() > std::size_t(INT32_MAX) ||
+        chroma_flat.size() + chroma[std::size_t(r)].size() > std::size_t(INT32_MAX))
       throw Error(what + ": codebooks beyond 2^31 values");
-    l1_offset[std::size_t(r)] = std::int32_t(l1_flat.size());
-    chroma_offset[std::size_t(r)] = std::int32_t(chroma_flat.size());
-    l1_flat.insert(l1_flat.end(), l1_values[std::size_t(r)].begin(), l1_values[std::size_t(r)].end());
-    chroma_flat.insert(chroma_flat.end(), chroma_rgb[std::size_t(r)].begin(), chroma_rgb[std::size_t(r)].end());
+    for (int a = 0; a < btfRingSize(r); ++a)
+      lights[std::size_t(btfRingStart(r) + a)] = {std::uint32_t(l1_flat.size()) + std::uint32_t(a),
+                                                  std::uint32_t(chroma_flat.size()) + 2 * std::uint32_t(a),
+                                                  std::uint32_t(r), std::uint32_t(btfRingSize(r))};
+    l1_flat.insert(l1_flat.end(), l1[std::size_t(r)].begin(), l1[std::size_t(r)].end());
+    for (std::int32_t g : chroma[std::size_t(r)]) chroma_flat.push_back(std::uint16_t(g));
+  }
+  auto scaledIndices = [](const std::vector<std::uint32_t>& index, const std::vector<std::uint16_t>& scale) {
+    std::vector<ScaledIndex> codes(index.size());
+    for (std::size_t i = 0; i < index.size(); ++i) codes[i] = {index[i], decodeVqScale(scale[i])};
+    return codes;
+  };
+  auto ringCodes = [](const std::vector<std::uint32_t>& index, const std::vector<std::uint16_t>& scale,
+                      const std::vector<std::uint32_t>& chroma_index) {
+    std::vector<RingCode> codes(index.size());
+    for (std::size_t i = 0; i < index.size(); ++i) codes[i] = {index[i], decodeVqScale(scale[i]), chroma_index[i]};
+    return codes;
+  };
+  l2_codes = ringCodes(l2_index, l2_scale, l2_chroma);
+  l3_codes = scaledIndices(l3_index, l3_scale);
+  if (options.levels == 1) {
+    top_ring_codes = ringCodes(top_index, top_scale, top_chroma);
+    top_codes.clear();
+  } else {
+    top_codes = scaledIndices(top_index, top_scale);
+    top_ring_codes.clear();
   }
 }
 
@@ -150,15 +146,17 @@ std::string VqBtf::name() const { return impl_->name; }
 const VqOptions& VqBtf::options() const { return impl_->options; }
 const VqStats& VqBtf::stats() const { return impl_->stats; }
 
+std::size_t VqBtf::lookupTableBytes() const {
+  const Impl& m = *impl_;
+  auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  return bytes(m.l1_flat) + bytes(m.chroma_flat) + bytes(m.l2_codes) + bytes(m.l3_codes) + bytes(m.top_codes) +
+         bytes(m.top_ring_codes);
+}
+
 Rgb VqBtf::value(int x, int y, int view, int light) const {
   const Impl& m = *impl_;
-  const int ring = kLights.ring[std::size_t(light)];
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
-  const Impl::RingCode code = m.ringCode(t, view, ring);
-  const std::size_t a = std::size_t(code.entry) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)];
-  const float lum = code.scale * m.l1_values[std::size_t(ring)][a];
-  const float* c = &m.chroma_rgb[std::size_t(ring)][(std::size_t(code.chroma) * std::size_t(btfRingSize(ring)) + kLights.azimuth[std::size_t(light)]) * 3];
-  return {lum * c[0], lum * c[1], lum * c[2]};
+  return m.sample(m.ringCode(t, view, int(m.lights[std::size_t(light)].ring)), light);
 }
 
 void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
@@ -170,13 +168,7 @@ void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
     for (std::size_t t = range.begin(); t != range.end(); ++t)
       for (int r = 0; r < kBtfRingCount; ++r) {
         const Impl::RingCode code = m.ringCode(t, view, r);
-        const int n = btfRingSize(r), start = btfRingStart(r);
-        const float* e = &m.l1_values[std::size_t(r)][std::size_t(code.entry) * std::size_t(n)];
-        const float* c = &m.chroma_rgb[std::size_t(r)][std::size_t(code.chroma) * std::size_t(n) * 3];
-        for (int a = 0; a < n; ++a) {
-          const float lum = code.scale * e[a];
-          out[std::size_t(start + a) * T + t] = Rgb(lum * c[3 * a], lum * c[3 * a + 1], lum * c[3 * a + 2]);
-        }
+        for (int l = btfRingStart(r); l < btfRingStart(r) + btfRingSize(r); ++l) out[std::size_t(l) * T + t] = m.sample(code, l);
       }
   });
 }
@@ -185,25 +177,20 @@ void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
 Rgb VqBtf::weightedSum(int x, int y, const int* views, const int* lights, const float* weights, int count) const {
   const Impl& m = *impl_;
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
-  float r = 0, g = 0, b = 0;
-  for (int k = 0; k < count; ++k) {
-    const int ring = kLights.ring[std::size_t(lights[k])];
-    const Impl::RingCode code = m.ringCode(t, views[k], ring);
-    const std::size_t n = std::size_t(btfRingSize(ring)), a = kLights.azimuth[std::size_t(lights[k])];
-    const float lum = weights[k] * code.scale * m.l1_values[std::size_t(ring)][std::size_t(code.entry) * n + a];
-    const float* c = &m.chroma_rgb[std::size_t(ring)][(std::size_t(code.chroma) * n + a) * 3];
-    r += lum * c[0];
-    g += lum * c[1];
-    b += lum * c[2];
-  }
-  return {r, g, b};
+  Rgb sum(0.0f);
+  for (int k = 0; k < count; ++k)
+    sum += m.sample(m.ringCode(t, views[k], int(m.lights[std::size_t(lights[k])].ring)), lights[k]) * weights[k];
+  return sum;
 }
 
 void VqBtf::lightRings(int x, int y, int view, std::array<LightRing, kBtfRingCount>& rings) const {
   const Impl& m = *impl_;
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  // The slice's code once, then its six rings (rather than six walks from the texel).
+  Impl::ScaledIndex slice{};
+  if (m.options.levels >= 2) slice = m.sliceCode(t, view);
   for (int r = 0; r < kBtfRingCount; ++r) {
-    const Impl::RingCode code = m.ringCode(t, view, r);
+    const Impl::RingCode code = m.options.levels >= 2 ? m.ringCode(slice, r) : m.ringCode(t, view, r);
     const std::size_t n = std::size_t(btfRingSize(r)), e = code.entry;
     rings[std::size_t(r)] = {&m.l1_values[std::size_t(r)][e * n], &m.l1_cdf[std::size_t(r)][e * (n + 1)],
                              m.l1_sum[std::size_t(r)][e], code.scale};

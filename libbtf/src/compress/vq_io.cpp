@@ -171,7 +171,8 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
   if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
     throw FileError(path, "VQ header has an invalid texel size");
   if (m->options.levels < 1 || m->options.levels > 3) throw FileError(path, "VQ header has an invalid level count");
-  if (!(m->options.chroma_epsilon > 0.0f)) throw FileError(path, "VQ header has an invalid chroma_epsilon");
+  if (!(m->options.chroma_epsilon >= kVqMinChromaEpsilon) || !(m->options.chroma_epsilon <= 1.0f))
+    throw FileError(path, "VQ header has an invalid chroma_epsilon");
   for (int r = 0; r < kBtfRingCount; ++r)
     m->l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(section(sections, "level1/ring" + std::to_string(r), path), path);
   for (int r = 0; r < kBtfRingCount; ++r)

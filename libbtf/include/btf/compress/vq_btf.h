@@ -45,15 +45,22 @@ namespace btf {
 // - Chromaticity c_a = (R / Y, B / Y) at each light azimuth a of a ring (where Y = 0, the ring's
 //   mean; G follows from Y) forms a chroma function per ring; its codebook entry (one per ring,
 //   carried by the level-1 code or the level-2 entry) is reused only when the luminance-weighted
-//   error sum_a Y_a^2 |c'_a - c_a|^2 <= chroma_epsilon^2 sum_a Y_a^2 (absolute: c is already
-//   normalized), checked against the data at level 1 and 2; level 3 keeps a ring's chroma entry
-//   only when it is one of those two checked ones. New entries are stored on a grid of step
-//   chroma_epsilon / 4 (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2 |dc|^2
-//   and |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is <= kmax / 1.334 * L + 0.786 chroma_epsilon,
-//   with L the luminance rel_rmse and kmax the largest |RGB| / Y of the decoded data.
+//   error sum_a Y_a^2 |c'_a - c_a|^2 <= chroma_epsilon^2 max(sum_a Y_a^2, (energy_floor R)^2)
+//   (absolute: c is already normalized; R is the RMS ring norm of the ring's batch, so dark rings,
+//   whose colour adds little to the error, get the same floor as their luminance), checked
+//   against the data at level 1 and 2; level 3 keeps a ring's chroma entry only when it is one of
+//   those two checked ones. New entries are stored on a grid of step chroma_epsilon / 4
+//   (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2 |dc|^2 and
+//   |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is
+//   <= kmax / 1.334 * L + 0.786 chroma_epsilon sqrt(1 + energy_floor^2), with L the luminance
+//   rel_rmse and kmax the largest |RGB| / Y of the decoded data.
+// Chromaticities are stored on a 16-bit grid of step chroma_epsilon / 4; since R/Y <= 4.7 and
+// B/Y <= 13.9 for non-negative RGB, a tolerance of 0.001 or more keeps the grid within 16 bits.
+inline constexpr float kVqMinChromaEpsilon = 0.001f;
+
 struct VqOptions {
   float epsilon = 0.02f;         // relative L2 tolerance per level (see above); 0: near-lossless
-  float chroma_epsilon = 0.01f;  // absolute tolerance of the chromaticity (R/Y, B/Y) (see above); > 0
+  float chroma_epsilon = 0.01f;  // absolute tolerance of the chromaticity (R/Y, B/Y) (see above); >= 0.001
   float energy_floor = 1.0f;     // >= 0: the absolute floor of the tolerance, in batch RMS norms
   int levels = 3;                // 1, 2 or 3
   int threads = 0;               // 0: TBB's default; the output does not depend on it
@@ -79,6 +86,9 @@ class VqBtf final : public BtfSource, public BtfLookup {
 
   const VqOptions& options() const;
   const VqStats& stats() const;
+  // Bytes of the decoded tables random lookups (value, values, weightedSum) walk: the working set
+  // that decides whether they run from cache (bench_btf.cpp measures the rate against it).
+  std::size_t lookupTableBytes() const;
 
   // The light slice of texel (x, y) and a view as its six rings, for samplers that work on the
   // compressed form (material/btf_material.h): ring r's luminance at light azimuth a is
