@@ -1,9 +1,11 @@
 // `btf bench compressibility`: a tiny run writes the CSV with one row per (pattern, epsilon) whose
-// figures are self-consistent, and bad options fail with a message naming the problem.
+// figures are self-consistent, the chart data (.dat) agreeing with the CSV and the charts when
+// gnuplot is installed, and bad options fail with a message naming the problem.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,6 +23,37 @@ std::vector<std::string> splitCsvLine(const std::string& line) {
   std::string cell;
   while (std::getline(in, cell, ',')) cells.push_back(cell);
   return cells;
+}
+
+// A .dat file of the command: one block per pattern, opened by "# pattern NAME ...", rows of two
+// numbers, blocks separated by blank lines.
+struct DatBlock {
+  std::string pattern;
+  std::vector<std::pair<double, double>> rows;
+};
+
+std::vector<DatBlock> readDat(const fs::path& path) {
+  std::vector<DatBlock> blocks;
+  std::stringstream in(readBytes(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (line.starts_with("# pattern ")) {
+      std::stringstream words(line.substr(10));
+      blocks.emplace_back();
+      words >> blocks.back().pattern;
+      continue;
+    }
+    EXPECT_FALSE(blocks.empty()) << "a row before the first block header: " << line;
+    if (blocks.empty()) return blocks;
+    std::stringstream numbers(line);
+    double a = 0, b = 0;
+    std::string rest;
+    EXPECT_TRUE(numbers >> a >> b) << line;
+    EXPECT_FALSE(numbers >> rest) << "more than two columns: " << line;
+    blocks.back().rows.emplace_back(a, b);
+  }
+  return blocks;
 }
 
 TEST(BenchCompressibility, TinyRunWritesOneRowPerPatternAndEpsilon) {
@@ -69,6 +102,65 @@ TEST(BenchCompressibility, TinyRunWritesOneRowPerPatternAndEpsilon) {
   EXPECT_LE(std::stoi(rows[1][column("rank")]), std::stoi(rows[0][column("rank")]));
   EXPECT_THAT(r.output, HasSubstr("greedy_entries"));
   EXPECT_THAT(r.output, HasSubstr("compressibility.csv"));
+
+  // Nearest-texel CDF: every texel once per pattern, ascending in [0, 1], fraction (i + 1) / 64, and
+  // the CSV's median is the midpoint of the two middle order statistics (h = 63 / 2).
+  const std::vector<DatBlock> nearest = readDat(out / "compressibility_nearest.dat");
+  ASSERT_EQ(nearest.size(), 2u);
+  for (std::size_t b = 0; b < nearest.size(); ++b) {
+    const DatBlock& block = nearest[b];
+    EXPECT_EQ(block.pattern, rows[2 * b][0]);
+    ASSERT_EQ(block.rows.size(), 64u) << block.pattern;
+    for (std::size_t i = 0; i < block.rows.size(); ++i) {
+      EXPECT_GE(block.rows[i].first, 0.0) << block.pattern << " row " << i;
+      EXPECT_LE(block.rows[i].first, 1.0) << block.pattern << " row " << i;
+      if (i) {
+        EXPECT_LE(block.rows[i - 1].first, block.rows[i].first) << block.pattern << " row " << i;
+      }
+      EXPECT_NEAR(block.rows[i].second, (i + 1) / 64.0, 1e-5) << block.pattern << " row " << i;
+    }
+    const double median = (block.rows[31].first + block.rows[32].first) / 2;
+    EXPECT_NEAR(median, std::stod(rows[2 * b][column("nn_p50")]), 1e-4) << block.pattern;
+  }
+  // Rank error curve: k = 0..min(64, 256), tail 1 at k = 0, non-increasing, 0 at full rank, and it
+  // first drops to each epsilon at the CSV's rank (6 printed digits: compared with a margin).
+  const std::vector<DatBlock> rank = readDat(out / "compressibility_rank.dat");
+  ASSERT_EQ(rank.size(), 2u);
+  for (std::size_t b = 0; b < rank.size(); ++b) {
+    const DatBlock& block = rank[b];
+    EXPECT_EQ(block.pattern, rows[2 * b][0]);
+    ASSERT_EQ(block.rows.size(), 65u) << block.pattern;
+    EXPECT_NEAR(block.rows.front().second, 1.0, 1e-6) << block.pattern;
+    EXPECT_NEAR(block.rows.back().second, 0.0, 1e-4) << block.pattern;
+    for (std::size_t k = 0; k < block.rows.size(); ++k) {
+      EXPECT_EQ(block.rows[k].first, double(k)) << block.pattern;
+      if (k) {
+        EXPECT_LE(block.rows[k].second, block.rows[k - 1].second * (1 + 1e-5)) << block.pattern << " k " << k;
+      }
+    }
+    for (std::size_t e = 0; e < 2; ++e) {
+      const std::vector<std::string>& row = rows[2 * b + e];
+      const double epsilon = std::stod(row[column("epsilon")]);
+      const std::size_t k = std::stoul(row[column("rank")]);
+      ASSERT_TRUE(k >= 1 && k < block.rows.size()) << k;
+      EXPECT_LE(block.rows[k].second, epsilon * (1 + 1e-5)) << block.pattern << " epsilon " << epsilon;
+      EXPECT_GT(block.rows[k - 1].second, epsilon * (1 - 1e-5)) << block.pattern << " epsilon " << epsilon;
+      EXPECT_NEAR(block.rows[k].second, std::stod(row[column("rank_rel_error")]), 1e-4) << block.pattern;
+    }
+  }
+  EXPECT_THAT(r.output, HasSubstr("compressibility_nearest.dat"));
+  EXPECT_THAT(r.output, HasSubstr("compressibility_rank.dat"));
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    for (const char* chart : {"compressibility_nearest", "compressibility_rank"}) {
+      const std::string png = readBytes(out / (std::string(chart) + ".png"));
+      EXPECT_TRUE(png.starts_with("\x89PNG")) << chart;
+      EXPECT_THAT(readBytes(out / (std::string(chart) + ".svg")), HasSubstr("<svg")) << chart;
+      EXPECT_THAT(r.output, HasSubstr(std::string(chart) + ".png")) << "listed in the wrote line";
+    }
+  } else {
+    EXPECT_THAT(r.output, HasSubstr("gnuplot not found"));
+  }
+  for (const fs::path& f : filesIn(out)) EXPECT_EQ(f.string().find(".part"), std::string::npos) << f;
 }
 
 TEST(BenchCompressibility, BadOptionsFailNamingTheProblem) {

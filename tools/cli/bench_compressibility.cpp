@@ -5,11 +5,20 @@
 // view is read once).
 //   DIR/compressibility.csv  one row per (pattern, epsilon); the nearest-neighbour columns repeat;
 //                            seconds = generating the pattern's views + the analysis
+//   DIR/compressibility_nearest.dat  per pattern, every texel's nearest-texel distance, ascending,
+//                            with the fraction of texels at or below it (the empirical CDF)
+//   DIR/compressibility_rank.dat     per pattern, the relative tail energy left by rank k, k = 0..min(T, D)
+//   DIR/compressibility_nearest.png/.svg, compressibility_rank.png/.svg and compressibility_charts.gp
+//                            (gnuplot, tools/common/gnuplot_charts.h; skipped with a message without it)
+// The .dat files hold one block per pattern, blocks separated by two blank lines (gnuplot `index`),
+// each opened by a "# pattern NAME" comment.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +28,7 @@
 #include "btf/io/atomic_file.h"
 #include "btf_patterns.h"
 #include "comma_list.h"
+#include "gnuplot_charts.h"
 #include "synthetic_btf.h"
 
 namespace btf::cli {
@@ -53,6 +63,100 @@ void writeCsv(const std::filesystem::path& path, const std::vector<PatternResult
             << a.ratio_u8_bound << ',' << p.seconds << '\n';
     }
   });
+}
+
+// The empirical CDF of the nearest-texel distance: "distance fraction" rows, distances ascending,
+// fraction = share of texels whose nearest other texel is at that distance or closer.
+std::string nearestCdf(const CompressibilityReport& r) {
+  std::vector<double> sorted = r.nearest_distance;
+  std::sort(sorted.begin(), sorted.end());
+  std::ostringstream out;
+  for (std::size_t i = 0; i < sorted.size(); ++i) out << sorted[i] << ' ' << double(i + 1) / sorted.size() << '\n';
+  return out.str();
+}
+
+// The error curve of the best linear basis: "rank tail" rows for k = 0..min(T, D), tail =
+// sqrt(sum_{i>k} s_i^2 / sum s_i^2) (compressibility.h, measure 3), summed smallest first as the
+// library does, so the curve crosses each epsilon at the reported rank (up to rounding).
+std::string rankTail(const CompressibilityReport& r) {
+  const std::vector<double>& s = r.singular_values;
+  std::vector<double> tail(s.size() + 1, 0.0);
+  for (std::size_t i = s.size(); i-- > 0;) tail[i] = tail[i + 1] + s[i] * s[i];
+  const double total = tail[0] > 0 ? tail[0] : 1.0;
+  std::ostringstream out;
+  for (std::size_t k = 0; k < tail.size(); ++k) out << k << ' ' << std::sqrt(tail[k] / total) << '\n';
+  return out.str();
+}
+
+// One block per pattern as described at the top of the file.
+void writeBlocks(const std::filesystem::path& path, const std::string& columns, const std::vector<PatternResult>& results,
+                 const std::vector<std::string>& blocks) {
+  writeFileAtomically(path, [&](std::ofstream& out) {
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (i) out << "\n\n";
+      out << "# pattern " << results[i].pattern << " (" << results[i].report.texels << " texels, "
+          << results[i].report.directions << " directions): " << columns << '\n' << blocks[i];
+    }
+  });
+}
+
+// A two-line gnuplot title.
+std::string title(const std::string& first, const std::string& second) {
+  return "set title " + tools::gnuplotQuote(first) + " . \"\\n\" . " + tools::gnuplotQuote(second) + '\n';
+}
+
+tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Args& args,
+                                 const std::vector<PatternResult>& results, const std::vector<std::string>& nearest,
+                                 const std::vector<std::string>& rank) {
+  std::ostringstream data;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    data << "$nearest" << i << " << EOD\n" << nearest[i] << "EOD\n";
+    data << "$rank" << i << " << EOD\n" << rank[i] << "EOD\n";
+  }
+  const CompressibilityReport& first = results.front().report;
+  std::ostringstream what;
+  what << args.size << " x " << args.size << " = " << first.texels << " texels per pattern, luminance at "
+       << first.directions << " of the 6561 (view, light) pairs, seed " << args.seed;
+  // Log axes cannot show 0. Distances below the left edge (texels of zero luminance, d = 0) are
+  // drawn at the edge, so every texel still counts in the CDF; a tail of exactly 0 (k = rank of the
+  // matrix) is left out, the segments towards tiny tails are clipped at the bottom edge.
+  double low = 1e-3;
+  for (double e : args.analysis.epsilons) low = std::min(low, e / 3);
+  std::size_t max_rank = 1;
+  for (const PatternResult& p : results) max_rank = std::max(max_rank, p.report.singular_values.size());
+  std::ostringstream near_body, rank_body;
+  near_body << title("Nearest other texel: fraction of texels whose nearest other texel is within distance x",
+                     what.str())
+            << "set logscale x\nset xrange [" << low << ":1]\nset yrange [0:1]\n"
+            << "set xlabel 'x = scale-optimal relative distance min_s |a - s b| / |a| = sqrt(1 - cos^2(a, b)) "
+               "between luminance vectors (log scale)'\n"
+            << "set ylabel 'fraction of texels with nearest-texel distance <= x'\n";
+  rank_body << title("Linear basis: relative error of the best rank-k model (Eckart-Young tail energy)", what.str())
+            << "set logscale y\nset yrange [" << low << ":1]\nset xrange [0:" << max_rank << "]\n"
+            << "set xlabel 'rank k (basis vectors kept, luminance only)'\n"
+            << "set ylabel 'sqrt(sum_{i>k} s_i^2 / sum_i s_i^2) (log scale)'\n";
+  for (double e : args.analysis.epsilons) {
+    std::ostringstream label_text;
+    label_text << "epsilon " << e;
+    const std::string label = tools::gnuplotQuote(label_text.str());
+    near_body << "set arrow from first " << e << ", graph 0 to first " << e << ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
+              << "set label " << label << " at first " << e << ", graph 0.98 rotate by 90 right offset -1.3,0 "
+              << "tc rgb 'gray30' front\n";
+    rank_body << "set arrow from graph 0, first " << e << " to graph 1, first " << e << " nohead dt 2 lc rgb 'gray40'\n"
+              << "set label " << label << " at graph 0.99, first " << e << " right offset 0,0.6 tc rgb 'gray30' front\n";
+  }
+  near_body << "plot ";
+  rank_body << "plot ";
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const std::string name = tools::gnuplotQuote(results[i].pattern);
+    near_body << (i ? ", " : "") << "$nearest" << i << " using ($1 < " << low << " ? " << low
+              << " : $1):2 with steps lw 2 title " << name;
+    rank_body << (i ? ", " : "") << "$rank" << i << " using 1:($2 > 0 ? $2 : NaN) with lines lw 2 title " << name;
+  }
+  near_body << '\n';
+  rank_body << '\n';
+  return tools::drawGnuplotCharts(folder, "compressibility_charts.gp", data.str(),
+                                  {{"compressibility_nearest", near_body.str()}, {"compressibility_rank", rank_body.str()}});
 }
 
 void printTables(const std::vector<PatternResult>& results) {
@@ -104,10 +208,22 @@ void runBenchCompressibility(const Args& args) {
     std::fflush(stdout);
     results.push_back(std::move(p));
   }
-  const std::filesystem::path csv = std::filesystem::path(args.output) / "compressibility.csv";
+  const std::filesystem::path folder = args.output;
+  const std::filesystem::path csv = folder / "compressibility.csv";
   writeCsv(csv, results);
+  std::vector<std::string> nearest, rank;
+  for (const PatternResult& p : results) {
+    nearest.push_back(nearestCdf(p.report));
+    rank.push_back(rankTail(p.report));
+  }
+  writeBlocks(folder / "compressibility_nearest.dat", "distance fraction_within", results, nearest);
+  writeBlocks(folder / "compressibility_rank.dat", "rank tail_rel_energy", results, rank);
+  const tools::GnuplotOutcome charts = drawCharts(folder, args, results, nearest, rank);
   printTables(results);
-  std::printf("\nwrote %s\n", csv.string().c_str());
+  std::printf("\nwrote %s, compressibility_nearest.dat, compressibility_rank.dat", csv.string().c_str());
+  for (const auto& f : charts.files) std::printf(", %s", f.filename().c_str());
+  std::printf("\n");
+  if (!charts.message.empty()) std::printf("%s\n", charts.message.c_str());
 }
 
 }  // namespace
@@ -117,8 +233,8 @@ void addBenchCompressibilityCommand(CLI::App& bench) {
   auto* cmd = bench.add_subcommand(
       "compressibility",
       "How compressible the synthetic BTFs are for any method: nearest-neighbour texel distances, greedy texel "
-      "codebook size and linear rank per tolerance, with ratio_u8 bounds; CSV and a table");
-  cmd->add_option("-o,--output", args->output, "Output folder (compressibility.csv)")->capture_default_str();
+      "codebook size and linear rank per tolerance, with ratio_u8 bounds; CSV, tables and gnuplot charts (nearest-texel distance CDF, rank error curve)");
+  cmd->add_option("-o,--output", args->output, "Output folder (compressibility.csv, .dat, charts)")->capture_default_str();
   cmd->add_option("--patterns", args->patterns, "Synthetic BTF patterns (comma-separated)")->capture_default_str();
   cmd->add_option("--size", args->size, "Texels per side (the analysis is O(texels^2))")
       ->capture_default_str()

@@ -57,6 +57,9 @@ demo() {
   "$bin/btf" compress "$out/fabric-btf" "$out/fabric.btfz" --epsilon 0.02
   "$bin/btf" info "$out/fabric.btfz"
   "$bin/btf" decompress "$out/fabric.btfz" "$out/fabric-decoded" --format png16
+  echo "== VQ against per-view PCA at equal storage (rate-distortion chart), and how far the data can be compressed at all"
+  "$bin/btf" bench compression --patterns fabric --size 16 --epsilons 0.02,0.1,0.4 --levels 3 --no-brdfs -o "$out/bench-compression"
+  "$bin/btf" bench compressibility --patterns fabric --size 16 -o "$out/compressibility"
   if [ -d "$real" ]; then
     echo "== a real measured material (RGL database): facts, MERL-layout conversion, previews"
     "$bin/btf" info "$real/rgl_bsdf/vch_golden_yellow_rgb.bsdf"
