@@ -10,7 +10,6 @@
 
 namespace btf {
 
-
 namespace {
 template <class T>
 void checkIndices(const std::vector<T>& indices, std::size_t bound, const std::string& what, const std::string& stream) {
