@@ -2,8 +2,10 @@
 // frequency check allows 5 standard deviations per cell (200,000 draws).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
@@ -48,6 +50,26 @@ TEST(Cdf1D, DiscreteSampleReturnsIndexProbabilityAndReusableRemainder) {
   EXPECT_NEAR(d.remapped, 0.5f, 1e-6f);
   EXPECT_EQ(btf::sampleDiscrete(cdf, 0.0f).index, 0u);
   EXPECT_EQ(btf::sampleDiscrete(cdf, 0x1.fffffep-1f).index, 2u);
+}
+
+// The search picks its cell by counting (small CDFs) or by bisection (large ones): both must be
+// std::upper_bound's cell for every u, on CDFs with empty cells (ties), at the edges and for NaN.
+TEST(Cdf1D, CellSearchIsUpperBoundsForSmallAndLargeCdfs) {
+  btf::Rng rng(11);
+  for (int n : {1, 2, 5, 24, 32, 33, 200}) {
+    std::vector<float> f(static_cast<std::size_t>(n)), cdf(static_cast<std::size_t>(n) + 1);
+    for (float& v : f) v = rng.uniform() < 0.3f ? 0.0f : rng.uniform();  // some empty cells
+    btf::buildCdf1D(f, cdf);
+    std::vector<float> us{0.0f, 0x1.fffffep-1f, 1.0f, -0.5f, std::nanf("")};
+    for (int k = 0; k < 2000; ++k) us.push_back(rng.uniform());
+    for (std::size_t i = 1; i < cdf.size(); ++i) us.push_back(cdf[i]);  // exactly on the edges
+    for (float u : us) {
+      const auto it = std::upper_bound(cdf.begin() + 1, cdf.end() - 1, u);
+      const std::size_t expected = std::size_t(it - cdf.begin()) - 1;
+      ASSERT_EQ(btf::sampleDiscrete(cdf, u).index, std::min(expected, std::size_t(n) - 1)) << "n " << n << ", u " << u;
+      ASSERT_EQ(btf::sampleCdf1D(cdf, u).cell, btf::sampleCdf1DInCell(cdf, expected, u).cell) << "n " << n << ", u " << u;
+    }
+  }
 }
 
 TEST(Cdf1D, RejectsMismatchedSizes) {
