@@ -85,7 +85,7 @@ void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFi
 
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
 // no interpolation, the random access that decompression-based renderers make. Its rate depends on
-// whether the tables it walks stay in cache, so it runs on the GGX pattern at 4 x 4 to 32 x 32
+// whether the tables it walks stay in cache, so it runs on the GGX pattern at 4 x 4 to 64 x 64
 // texels (argument), whose tables grow with it (counter table_MB; this machine's L2: 2 MB per core).
 struct DecodeFixture {
   std::shared_ptr<const btf::VqBtf> vq;
@@ -137,8 +137,8 @@ void BM_BtfDecodeVqStream(benchmark::State& state) {
 }
 
 BENCHMARK(BM_BtfEvalLafortune1);
-BENCHMARK(BM_BtfDecodeVqValue)->Arg(4)->Arg(8)->Arg(16)->Arg(32);
-BENCHMARK(BM_BtfDecodeVqStream)->Arg(4)->Arg(8)->Arg(16)->Arg(32);
+BENCHMARK(BM_BtfDecodeVqValue)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64);
+BENCHMARK(BM_BtfDecodeVqStream)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64);
 BENCHMARK(BM_BtfEvalVqBilinear);
 BENCHMARK(BM_BtfEvalVqNearest);
 BENCHMARK(BM_BtfEvalDataNearest);
