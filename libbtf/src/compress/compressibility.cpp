@@ -263,6 +263,7 @@ CompressibilityReport analyzeCompressibility(const BtfSource& source, const Comp
   for (std::size_t i = squared.size(); i-- > 0;) tail[i] = tail[i + 1] + squared[i];
   const double total = tail[0] > 0 ? tail[0] : 1.0;
   for (double s2 : squared) report.singular_values.push_back(std::sqrt(s2));
+  for (double t : tail) report.rank_rel_error.push_back(std::sqrt(t / total));
 
   for (const GreedyState& g : greedy) {
     CompressibilityAtEpsilon a;
@@ -270,9 +271,9 @@ CompressibilityReport analyzeCompressibility(const BtfSource& source, const Comp
     a.greedy_entries = int(g.entries.size());
     a.greedy_rel_error = std::sqrt(g.error2 / energy);
     int k = 0;
-    while (std::size_t(k) < squared.size() && std::sqrt(tail[std::size_t(k)] / total) > g.epsilon) ++k;
+    while (std::size_t(k) < squared.size() && report.rank_rel_error[std::size_t(k)] > g.epsilon) ++k;
     a.rank = k;
-    a.rank_rel_error = std::sqrt(tail[std::size_t(k)] / total);
+    a.rank_rel_error = report.rank_rel_error[std::size_t(k)];
     a.ratio_u8_bound = rankRatioU8Bound(report.texels, k);
     report.at_epsilon.push_back(a);
   }

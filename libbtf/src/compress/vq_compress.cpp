@@ -143,8 +143,7 @@ double rmsOf(std::size_t n, F&& norm_of) {
 class Compressor {
  public:
   Compressor(const BtfSource& source, const VqOptions& options, VqBtf::Impl& out)
-      : source_(source), options_(options), out_(out), texels_(source.texelCount()),
-        radius_(Codebook::chordRadius(options.epsilon)) {
+      : source_(source), options_(options), out_(out), texels_(source.texelCount()) {
     for (int r = 0; r < kBtfRingCount; ++r) l1_.emplace_back(btfRingSize(r));
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
     // uniform light slice (level 2) and the uniform texel (level 3).
@@ -577,7 +576,6 @@ class Compressor {
   const VqOptions& options_;
   VqBtf::Impl& out_;
   std::size_t texels_;
-  float radius_;
   std::vector<Codebook> l1_;
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;

@@ -91,15 +91,14 @@ void VqBtf::Impl::prepare(const std::string& what) {
   // Decoded tables.
   for (int r = 0; r < kBtfRingCount; ++r) {
     const std::size_t n = std::size_t(btfRingSize(r)), count = l1Count(r);
-    auto& values = l1_values[std::size_t(r)];
     auto& cdf = l1_cdf[std::size_t(r)];
     auto& sum = l1_sum[std::size_t(r)];
-    values.resize(l1[std::size_t(r)].size());
     cdf.resize(count * (n + 1));
     sum.resize(count);
-    for (std::size_t i = 0; i < values.size(); ++i) values[i] = decodeVqEntryValue(l1[std::size_t(r)][i]);
+    std::array<float, kBtfDirectionCount> values;  // one entry, decoded
     for (std::size_t e = 0; e < count; ++e) {
-      sum[e] = float(buildCdf1D(std::span<const float>(&values[e * n], n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
+      for (std::size_t a = 0; a < n; ++a) values[a] = decodeVqEntryValue(l1[std::size_t(r)][e * n + a]);
+      sum[e] = float(buildCdf1D(std::span<const float>(values.data(), n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
     }
   }
   chroma_step = vqChromaStep(options.chroma_epsilon);
@@ -191,8 +190,7 @@ void VqBtf::lightRings(int x, int y, int view, std::array<LightRing, kBtfRingCou
   for (int r = 0; r < kBtfRingCount; ++r) {
     const Impl::RingCode code = m.options.levels >= 2 ? m.ringCode(slice, r) : m.ringCode(t, view, r);
     const std::size_t n = std::size_t(btfRingSize(r)), e = code.entry;
-    rings[std::size_t(r)] = {&m.l1_values[std::size_t(r)][e * n], &m.l1_cdf[std::size_t(r)][e * (n + 1)],
-                             m.l1_sum[std::size_t(r)][e], code.scale};
+    rings[std::size_t(r)] = {&m.l1_cdf[std::size_t(r)][e * (n + 1)], m.l1_sum[std::size_t(r)][e], code.scale};
   }
 }
 

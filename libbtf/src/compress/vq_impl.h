@@ -85,9 +85,9 @@ struct VqBtf::Impl {
   };
   std::array<LightAddress, kBtfDirectionCount> lights{};
   float chroma_step = 0;
-  // Per ring, decoded float values, their normalized prefix sums and totals, for samplers
-  // (VqBtf::lightRings).
-  std::array<std::vector<float>, kBtfRingCount> l1_values, l1_cdf, l1_sum;
+  // Per ring and level-1 entry, the normalized prefix sums of its values and their total, for
+  // samplers (VqBtf::lightRings).
+  std::array<std::vector<float>, kBtfRingCount> l1_cdf, l1_sum;
 
   std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(btfRingSize(ring)); }
   std::size_t l2Count() const { return l2_index.size() / kBtfRingCount; }

@@ -17,10 +17,18 @@
 
 #include "btf/core/error.h"
 #include "btf/sampling/dp_cdf_sampler.h"
-#include "../core/avx2.h"
+
+// Compiles one function for AVX2 and not FMA, so that no multiply-add is fused and the lanes
+// round as the scalar code does.
+#define BTF_AVX2 __attribute__((target("avx2")))
 
 namespace btf {
 namespace {
+
+bool cpuHasAvx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
 
 // Queries per step: four vectors of eight, interleaved step by step, so that one vector's gathers
 // run while another waits for its own (the searches are chains of dependent gathers; eight

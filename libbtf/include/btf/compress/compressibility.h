@@ -87,6 +87,9 @@ struct CompressibilityReport {
   double nn_p10 = 0, nn_p25 = 0, nn_p50 = 0, nn_p75 = 0, nn_p90 = 0, nn_max = 0;
   double nn_rel_error = 0;  // energy-weighted, as above
   std::vector<double> singular_values;  // min(T, D) values, largest first
+  // Relative error of the best rank-k model, sqrt(sum_{i>k} s_i^2 / sum s_i^2) (1-based i), for
+  // k = 0 .. min(T, D): the curve each epsilon's rank is read from.
+  std::vector<double> rank_rel_error;
   std::vector<CompressibilityAtEpsilon> at_epsilon;  // in the order of options.epsilons
 };
 

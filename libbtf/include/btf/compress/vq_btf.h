@@ -91,11 +91,11 @@ class VqBtf final : public BtfSource, public BtfLookup {
   std::size_t lookupTableBytes() const;
 
   // The light slice of texel (x, y) and a view as its six rings, for samplers that work on the
-  // compressed form (material/btf_material.h): ring r's luminance at light azimuth a is
-  // scale * values[a] (a < btfRingSize(r)); cdf holds the normalized prefix sums of values
-  // (btfRingSize(r) + 1 entries, as buildCdf1D writes them) and sum their total. A few lookups.
+  // compressed form (material/btf_material.h): ring r's level-1 entry as the normalized prefix
+  // sums of its values (cdf, btfRingSize(r) + 1 entries, as buildCdf1D writes them) and their
+  // total (sum); the ring's luminance at light azimuth a is scale * sum * (cdf[a + 1] - cdf[a]).
+  // A few lookups.
   struct LightRing {
-    const float* values;
     const float* cdf;
     float sum;
     float scale;
