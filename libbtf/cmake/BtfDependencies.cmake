@@ -3,8 +3,9 @@ find_package(glm CONFIG REQUIRED)
 find_package(OpenEXR CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 find_package(flann CONFIG REQUIRED)
-find_package(Ceres CONFIG REQUIRED)
-find_package(embree 3 CONFIG REQUIRED)
+find_package(embree 3 CONFIG REQUIRED)  # the renderer's BVH
+find_package(assimp CONFIG REQUIRED)    # OBJ and PLY meshes of scenes
+find_package(nanoflann CONFIG REQUIRED) # a peer of the photon map's kd-tree, in benchmarks only
 find_package(TBB CONFIG REQUIRED)
 find_package(Boost 1.74 REQUIRED)   # header-only Boost.Math (chi-square distribution)
 find_package(nlohmann_json CONFIG REQUIRED)

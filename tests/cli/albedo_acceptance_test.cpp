@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 
+#include "btf/io/merl.h"
 #include "cli_test_support.h"
 
 namespace btf::test {
@@ -68,6 +70,49 @@ TEST_P(AlbedoAcceptance, InfoMatchesAnalyticAlbedoWithinTwoPercent) {
 // The expected albedo carries the same tint and falloff as the table (here strong ones).
 TEST(AlbedoAcceptanceEffects, TintAndStrongFalloffAreInTheExpectedAlbedo) {
   expectInfoMatchesDatagen("plastic-red", {"--tint", "0.9,0.7,1.2", "--falloff", "0.6", "--seed", "5"});
+}
+
+// --lookup chooses how the albedo reads the table and the output says which. On smooth data every
+// lookup gives the same albedo; on a mirror-like peak MERL's truncating reader gives each sample's
+// value to the whole cell above it and so reads the falling peak higher than interpolation does.
+TEST(InfoLookup, EveryLookupIsOfferedNamedAndDiffersOnlyOnPeaks) {
+  TempDir dir;
+  const std::vector<std::string> lookups = {"interpolated", "nearest", "truncated"};
+  auto albedoAtNormal = [&](const std::filesystem::path& table) {
+    std::map<std::string, double> by_lookup;
+    for (const std::string& lookup : lookups) {
+      const CommandResult r = runBtf({"info", table.string(), "--lookup", lookup, "--json"});
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+      const nlohmann::json j = parseJsonOutput(r);
+      EXPECT_EQ(j["lookup"], lookup);
+      by_lookup[lookup] = j["albedo"][0]["rgb"][1].get<double>();
+      const CommandResult text = runBtf({"info", table.string(), "--lookup", lookup});
+      EXPECT_NE(text.output.find("albedo (directional-hemispherical, " + lookup + " lookup)"), std::string::npos)
+          << text.output;
+    }
+    return by_lookup;
+  };
+  const auto diffuse_table = dir / "diffuse.binary";
+  ASSERT_EQ(runDatagen({"--preset", "white-diffuse", "--clean", "-o", diffuse_table.string()}).exit_code, 0);
+  auto diffuse = albedoAtNormal(diffuse_table);
+  for (const std::string& lookup : lookups) EXPECT_NEAR(diffuse[lookup], diffuse["interpolated"], 0.01 * diffuse["interpolated"]);
+
+  // A mirror-like table: f only in the first three theta_h rows, a peak as narrow as the rows.
+  MerlTable spike;
+  for (int th = 0; th < 3; ++th)
+    for (int td = 0; td < MerlTable::kThetaDiffRes; ++td)
+      for (int pd = 0; pd < MerlTable::kPhiDiffRes; ++pd)
+        for (int c = 0; c < 3; ++c) spike.raw(c, MerlTable::index(th, td, pd)) = 1e6;
+  const auto spike_table = dir / "spike.binary";
+  writeMerl(spike_table, spike);
+  auto peak = albedoAtNormal(spike_table);
+  std::printf("  spike at theta_o 0: truncated %.5f, interpolated %.5f, nearest %.5f\n", peak["truncated"],
+              peak["interpolated"], peak["nearest"]);
+  // Truncation holds the value over rows [0, 3), interpolation ramps it down over [2, 3] and
+  // rounding stops at 2.5: in solid angle (theta_h grows as the square of the row) the first is
+  // about twice the second.
+  EXPECT_GT(peak["truncated"], 1.5 * peak["interpolated"]);
+  EXPECT_GT(peak["interpolated"], peak["nearest"]);
 }
 
 // Every preset, diffuse to near-mirror.

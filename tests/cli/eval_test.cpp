@@ -68,6 +68,21 @@ TEST(Eval, HalfDiffInputAgreesWithTheSameDirections) {
   EXPECT_NEAR(hd["theta_i_deg"].get<double>(), hd["theta_o_deg"].get<double>(), 1e-3);
 }
 
+TEST(Eval, JsonEchoesTheAnglesAsTyped) {
+  TempDir dir;
+  const std::string table = (dir / "t.binary").string();
+  ASSERT_EQ(runDatagen({"--preset", "white-diffuse", "--clean", "-o", table}).exit_code, 0);
+  const CommandResult r = runBtf({"eval", table, "--theta-i", "10", "--phi-i", "33.3", "--theta-o", "0.1", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // As typed, not through float: 33.3 as a float is 33.29999923706055.
+  EXPECT_NE(r.output.find("\"theta_i_deg\": 10.0"), std::string::npos) << r.output;
+  const nlohmann::json j = parseJsonOutput(r);
+  EXPECT_EQ(j["phi_i_deg"].get<double>(), 33.3);
+  EXPECT_EQ(j["theta_o_deg"].get<double>(), 0.1);
+  EXPECT_EQ(j["phi_o_deg"].get<double>(), 0.0);
+  EXPECT_EQ(j["lookup"], "interpolated");
+}
+
 TEST(Eval, RejectsAnglesOutsideTheHemisphere) {
   TempDir dir;
   const std::string table = (dir / "t.binary").string();

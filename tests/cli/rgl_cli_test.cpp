@@ -65,6 +65,21 @@ TEST(RglCli, ConvertTabulatesIntoTheMerlLayoutAndPlotWorksForBoth) {
   }
 }
 
+// A table lookup is a property of the MERL layout; an RGL file has its own parameterization, so
+// the option is refused rather than silently ignored.
+TEST(RglCli, LookupOptionIsRefusedForRglFiles) {
+  const std::string file = rglFile("paper_white_rgb").string();
+  for (const std::string cmd : {"eval", "info"}) {
+    const CommandResult r = runBtf({cmd, file, "--lookup", "nearest"});
+    EXPECT_NE(r.exit_code, 0) << cmd;
+    EXPECT_LT(r.exit_code, 128) << cmd;
+    EXPECT_NE(r.output.find("--lookup does not apply to " + file), std::string::npos) << cmd << ": " << r.output;
+  }
+  const CommandResult ok = runBtf({"eval", file, "--theta-i", "20", "--json"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(parseJsonOutput(ok)["lookup"], "rgl parameterization");
+}
+
 TEST(RglCli, ErrorsNameTheFileAndProblem) {
   TempDir dir;
   const auto bad = dir / "bad.bsdf";

@@ -239,6 +239,24 @@ TEST(TabulatedBrdfPolicy, LookupsAtSampleAnglesReadThatSample) {
   }
 }
 
+// MERL's reader truncates: anywhere inside [i, i+1) x [j, j+1) x [k, k+1) it reads sample (i, j, k),
+// where nearest lookup reads the closest sample (the upper one past the middle).
+TEST(TabulatedBrdfPolicy, TruncatedLookupReadsTheSampleBelowLikeMerlsReader) {
+  auto table = std::make_shared<MerlTable>(indexEncodingTable());
+  const TabulatedBrdf truncated(table, TableLookup::Truncated), nearest(table, TableLookup::Nearest);
+  Rng rng(23);
+  for (int n = 0; n < 2000; ++n) {
+    const int i = 1 + int(rng.uniformInt(59)), j = 1 + int(rng.uniformInt(39)), k = int(rng.uniformInt(179));
+    // Fractions inside the cell, away from its edges by more than the coordinates' float rounding.
+    const double fh = 0.6 + 0.3 * rng.uniform(), fd = 0.6 + 0.3 * rng.uniform(), fp = 0.6 + 0.3 * rng.uniform();
+    const float phi_h = kTwoPi * rng.uniform();
+    EXPECT_EQ(evalAt(truncated, i + fh, j + fd, k + fp, phi_h), Rgb(float(i + 1), float(j + 1), float(k + 1)))
+        << i << " " << j << " " << k;
+    EXPECT_EQ(evalAt(nearest, i + fh, j + fd, k + fp, phi_h), Rgb(float(i + 2), float(j + 2), float(k + 2)));
+  }
+  EXPECT_EQ(truncated.name(), "tabulated(lookup=truncated)");
+}
+
 TEST(TabulatedBrdfPolicy, NearestSkipsHolesAlongPhiThenThetaDiffThenThetaHalf) {
   auto table = std::make_shared<MerlTable>(indexEncodingTable());
   table->setUnmeasured(MerlTable::index(30, 20, 50));  // a hole: phi_d neighbours 49 and 51 tie

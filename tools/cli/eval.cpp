@@ -15,18 +15,25 @@
 namespace btf::cli {
 namespace {
 
+// Angles are kept as the user typed them (double) so that --json echoes 10 as 10.0, not as the
+// float 10.000000953674316; they become float only where the directions are formed.
 struct EvalOptions {
   std::string file;
-  float theta_i = 0, phi_i = 0, theta_o = 0, phi_o = 0;
-  std::vector<float> half_diff;  // theta_h, theta_d, phi_d
+  double theta_i = 0, phi_i = 0, theta_o = 0, phi_o = 0;
+  std::vector<double> half_diff;  // theta_h, theta_d, phi_d
   TableLookup lookup = TableLookup::Interpolated;
+  bool lookup_given = false;
   bool json = false;
 };
 
-float radians(float degrees) { return degrees * kPi / 180.0f; }
+float radians(double degrees) { return float(degrees * double(kPi) / 180.0); }
 
 void runEval(const EvalOptions& o) {
-  measuredFormatOf(o.file);  // reject an unknown extension before reading
+  const MeasuredFormat format = measuredFormatOf(o.file);  // reject an unknown extension before reading
+  if (format == MeasuredFormat::RglTensor && o.lookup_given)
+    throw Error("--lookup does not apply to " + o.file +
+                ": an RGL .bsdf file is evaluated through its own parameterization (convert it to a MERL table "
+                "with `btf convert` to choose a table lookup)");
   const std::unique_ptr<Material> material = loadMeasuredMaterial(o.file, o.lookup);
   const Material& brdf = *material;
   glm::vec3 wi, wo;
@@ -43,20 +50,24 @@ void runEval(const EvalOptions& o) {
     wo = sphericalDirection(radians(o.theta_o), radians(o.phi_o));
   }
   const Rgb f = brdf.eval(wi, wo);
-  const char* lookup = measuredFormatOf(o.file) == MeasuredFormat::RglTensor ? "rgl parameterization"
-                       : o.lookup == TableLookup::Nearest               ? "nearest"
-                                                                        : "interpolated";
+  const char* lookup = format == MeasuredFormat::RglTensor ? "rgl parameterization" : lookupName(o.lookup);
   const float deg = 180.0f / kPi;
   if (o.json) {
-    std::cout << nlohmann::json{{"file", o.file},
-                                {"lookup", lookup},
-                                {"theta_i_deg", sphericalTheta(wi) * deg},
-                                {"phi_i_deg", sphericalPhi(wi) * deg},
-                                {"theta_o_deg", sphericalTheta(wo) * deg},
-                                {"phi_o_deg", sphericalPhi(wo) * deg},
-                                {"f", {f.r, f.g, f.b}}}
-                     .dump(2)
-              << "\n";
+    nlohmann::json out{{"file", o.file}, {"lookup", lookup}};
+    if (o.half_diff.empty()) {
+      out.update({{"theta_i_deg", o.theta_i}, {"phi_i_deg", o.phi_i}, {"theta_o_deg", o.theta_o}, {"phi_o_deg", o.phi_o}});
+    } else {
+      // The directions the half/diff angles give, as angles of their own (computed, so in float).
+      out.update({{"theta_h_deg", o.half_diff[0]},
+                  {"theta_d_deg", o.half_diff[1]},
+                  {"phi_d_deg", o.half_diff[2]},
+                  {"theta_i_deg", double(sphericalTheta(wi) * deg)},
+                  {"phi_i_deg", double(sphericalPhi(wi) * deg)},
+                  {"theta_o_deg", double(sphericalTheta(wo) * deg)},
+                  {"phi_o_deg", double(sphericalPhi(wo) * deg)}});
+    }
+    out["f"] = {f.r, f.g, f.b};
+    std::cout << out.dump(2) << "\n";
     return;
   }
   std::printf("f = %.6g %.6g %.6g (1/sr, %s) at theta_i %.2f phi_i %.2f theta_o %.2f phi_o %.2f deg\n", f.r, f.g, f.b,
@@ -70,18 +81,22 @@ void registerEvalCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Value f (1/sr, RGB) of a measured table at one pair of directions (degrees)");
   auto o = std::make_shared<EvalOptions>();
   cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
-  const auto angle = CLI::Range(-360.0f, 360.0f);
-  auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
+  const auto angle = CLI::Range(-360.0, 360.0);
+  auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0, 90.0))->capture_default_str();
   auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle)->capture_default_str();
-  auto* to = cmd->add_option("--theta-o", o->theta_o, "View polar angle")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
+  auto* to = cmd->add_option("--theta-o", o->theta_o, "View polar angle")->check(CLI::Range(0.0, 90.0))->capture_default_str();
   auto* po = cmd->add_option("--phi-o", o->phi_o, "View azimuth")->check(angle)->capture_default_str();
   cmd->add_option("--half-diff", o->half_diff, "Rusinkiewicz angles THETA_H THETA_D PHI_D instead (phi_h = 0)")
       ->expected(3)
       ->excludes(ti)->excludes(pi)->excludes(to)->excludes(po);
   cmd->add_option_function<std::string>(
-         "--lookup", [o](const std::string& name) { o->lookup = parseLookup(name); },
-         "Table lookup: interpolated (default) or nearest")
-      ->check(CLI::IsMember({"interpolated", "nearest"}));
+         "--lookup",
+         [o](const std::string& name) {
+           o->lookup = parseLookup(name);
+           o->lookup_given = true;
+         },
+         "Table lookup of a MERL table: interpolated (default), nearest, or truncated (MERL's own reader); not for an RGL .bsdf file")
+      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { runEval(*o); });
 }

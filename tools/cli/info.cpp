@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/material/albedo.h"
 #include "btf/io/rgl_tensor.h"
@@ -104,7 +105,20 @@ void runRglInfo(const std::string& file, bool json) {
                 a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
 }
 
-void runInfo(const std::string& file, bool json, const std::string& fits_of) {
+struct InfoOptions {
+  std::string file;
+  bool json = false;
+  std::string fits_of;
+  TableLookup lookup = TableLookup::Interpolated;
+  bool lookup_given = false;
+};
+
+void runInfo(const InfoOptions& o) {
+  const std::string& file = o.file;
+  const bool json = o.json;
+  if (o.lookup_given && (isBtfPath(file) || measuredFormatOf(file) == MeasuredFormat::RglTensor))
+    throw Error("--lookup does not apply to " + file + ": it chooses how a MERL-layout table is read between its " +
+                "cells, and this file is " + (isBtfPath(file) ? "a BTF" : "an RGL .bsdf with its own parameterization"));
   if (isBtfPath(file)) {
     runBtfInfo(file, json);
     return;
@@ -117,9 +131,13 @@ void runInfo(const std::string& file, bool json, const std::string& fits_of) {
   const std::size_t unmeasured = total - stats.measured;
   const double percent = 100.0 * double(unmeasured) / double(total);
 
-  const TabulatedBrdf brdf(table, TableLookup::Interpolated);
+  // The lookups answer different questions on near-mirror tables: interpolation follows a peak
+  // between samples, truncation (MERL's own reader) gives each sample's value to the whole cell
+  // above it; the README's "Real measured data" section gives the size of the difference.
+  const TabulatedBrdf brdf(table, o.lookup);
+  const char* lookup_name = lookupName(o.lookup);
   const nlohmann::json albedo = albedoJson(brdf);
-  const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, fits_of);
+  const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, o.fits_of);
 
   if (json) {
     std::cout << nlohmann::json{
@@ -129,6 +147,7 @@ void runInfo(const std::string& file, bool json, const std::string& fits_of) {
                      {"samples", total},
                      {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
                      {"f_measured", {{"min", rgbJson(stats.min)}, {"max", rgbJson(stats.max)}, {"mean", rgbJson(stats.mean)}}},
+                     {"lookup", lookup_name},
                      {"albedo", albedo},
                      {"published_fits", fits ? tools::comparisonJson(*fits) : nlohmann::json()}}
                      .dump(2)
@@ -144,7 +163,7 @@ void runInfo(const std::string& file, bool json, const std::string& fits_of) {
   std::printf("    min       %11.5g %11.5g %11.5g\n", stats.min.r, stats.min.g, stats.min.b);
   std::printf("    max       %11.5g %11.5g %11.5g\n", stats.max.r, stats.max.g, stats.max.b);
   std::printf("    mean      %11.5g %11.5g %11.5g\n", stats.mean.r, stats.mean.g, stats.mean.b);
-  std::printf("  albedo (directional-hemispherical, interpolated lookup):\n");
+  std::printf("  albedo (directional-hemispherical, %s lookup):\n", lookup_name);
   for (const auto& a : albedo)
     std::printf("    theta_o %2.0f deg  %.4f %.4f %.4f\n", a["theta_o_deg"].get<float>(), a["rgb"][0].get<float>(),
                 a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
@@ -156,15 +175,22 @@ void runInfo(const std::string& file, bool json, const std::string& fits_of) {
 void registerInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Facts about a measured material: format, dims or fields, value ranges, "
                                          "unmeasured samples, albedo at theta_o = 0, 30, 60, 75 deg");
-  auto file = std::make_shared<std::string>();
-  auto json = std::make_shared<bool>(false);
-  cmd->add_option("FILE", *file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL), BTF image folder or .btfz")->required();
-  auto fits_of = std::make_shared<std::string>();
-  cmd->add_flag("--json", *json, "Machine-readable output");
-  cmd->add_option("--fits-of", *fits_of,
+  auto o = std::make_shared<InfoOptions>();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL), BTF image folder or .btfz")->required();
+  cmd->add_flag("--json", o->json, "Machine-readable output");
+  cmd->add_option_function<std::string>(
+         "--lookup",
+         [o](const std::string& name) {
+           o->lookup = parseLookup(name);
+           o->lookup_given = true;
+         },
+         "How the albedo reads a MERL table: interpolated (default), nearest, or truncated (MERL's own reader, "
+         "which reads near-mirror tables higher)")
+      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
+  cmd->add_option("--fits-of", o->fits_of,
                   "Compare with the published fits (SGD, ABC, Lafortune) of this MERL material; by default a file "
                   "named after a MERL material (gold-metallic-paint.binary) is compared with its fits");
-  cmd->callback([file, json, fits_of] { runInfo(*file, *json, *fits_of); });
+  cmd->callback([o] { runInfo(*o); });
 }
 
 }  // namespace btf::cli

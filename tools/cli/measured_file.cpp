@@ -42,7 +42,17 @@ std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path
 TableLookup parseLookup(const std::string& name) {
   if (name == "nearest") return TableLookup::Nearest;
   if (name == "interpolated") return TableLookup::Interpolated;
-  throw Error("unknown lookup '" + name + "' (expected nearest or interpolated)");
+  if (name == "truncated") return TableLookup::Truncated;
+  throw Error("unknown lookup '" + name + "' (expected interpolated, nearest or truncated)");
+}
+
+const char* lookupName(TableLookup lookup) {
+  switch (lookup) {
+    case TableLookup::Nearest: return "nearest";
+    case TableLookup::Truncated: return "truncated";
+    case TableLookup::Interpolated: break;
+  }
+  return "interpolated";
 }
 
 }  // namespace btf::cli

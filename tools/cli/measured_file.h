@@ -23,7 +23,8 @@ MerlTable loadMeasuredTable(const std::filesystem::path& path);
 // its own parameterization; `lookup` does not apply) for .bsdf.
 std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup);
 
-// "nearest" or "interpolated" (the --lookup option of several subcommands).
+// "interpolated", "nearest" or "truncated" (the --lookup option of several subcommands).
 TableLookup parseLookup(const std::string& name);
+const char* lookupName(TableLookup lookup);
 
 }  // namespace btf::cli

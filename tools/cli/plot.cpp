@@ -131,8 +131,8 @@ void registerPlotCommand(CLI::App& app) {
   cmd->add_option("--exposure", o->exposure, "Sphere exposure in stops")->check(CLI::Range(-20.0f, 20.0f))->capture_default_str();
   cmd->add_option_function<std::string>(
          "--lookup", [o](const std::string& name) { o->lookup = parseLookup(name); },
-         "Table lookup: interpolated (default) or nearest")
-      ->check(CLI::IsMember({"interpolated", "nearest"}));
+         "Table lookup: interpolated (default), nearest, or truncated (MERL's own reader)")
+      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
   cmd->callback([o] { runPlot(*o); });
 }
 

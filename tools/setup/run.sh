@@ -12,11 +12,27 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$root"
 jobs=$(nproc 2>/dev/null || echo 2)
 
+# Each package and why; nothing else is installed (`--no-install-recommends`). A fresh Debian 12
+# root (../shared/tools/fresh-debian, run by .ci/run) proves the list complete.
 packages=(
-  build-essential cmake ninja-build pkg-config git
-  libglm-dev libopenexr-dev libopenimageio-dev libflann-dev liblz4-dev libceres-dev libeigen3-dev
-  libembree-dev libtbb-dev libboost-dev libzstd-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
-  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox fonts-dejavu-core
+  build-essential cmake ninja-build  # the C++20 compiler and the build
+  libglm-dev              # vectors and matrices of the public headers
+  libopenexr-dev          # linear EXR images (BTF folders, renders)
+  libopenimageio-dev      # PNG/JPEG images, resizing and text for previews and plots
+  openimageio-tools       # Debian's OpenImageIO CMake package names its tools (iconvert, oiiotool...)
+                          # as imported targets and fails without them; they also let users inspect EXRs
+  libflann-dev            # kd-tree search of the VQ codebooks
+  libeigen3-dev           # per-view PCA baseline (SVD)
+  libembree-dev libtbb-dev  # the renderer's BVH; TBB for parallel loops throughout
+  libassimp-dev           # OBJ (with .mtl) and PLY meshes for scenes
+  libnanoflann-dev        # a peer kd-tree measured against the photon map's own (btf bench render)
+  libboost-dev            # Boost.Math: chi-square quantiles of the sampler tests
+  libzstd-dev zlib1g-dev  # .btfz sections: zstd payloads, CRC-32
+  nlohmann-json3-dev      # btf.json, .btfz headers, scenes, --json output
+  libcli11-dev            # the command line
+  libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
+  gnuplot-nox             # charts (PNG and SVG) of btf bench and btf sample
+  fonts-dejavu-core       # the font of plot labels and charts
 )
 
 install_packages() {

@@ -140,6 +140,12 @@ Rgb TabulatedBrdf::evalNearest(float u_h, float u_d, float u_p) const {
   return cells_[MerlTable::index(nearestIndex(u_h, kNh), nearestIndex(u_d, kNd), k)].f;
 }
 
+Rgb TabulatedBrdf::evalTruncated(float u_h, float u_d, float u_p) const {
+  int k = int(u_p);
+  if (k >= kNp) k -= kNp;
+  return cells_[MerlTable::index(std::min(int(u_h), kNh - 1), std::min(int(u_d), kNd - 1), k)].f;
+}
+
 Rgb TabulatedBrdf::evalInterpolated(float u_h, float u_d, float u_p) const {
   const int i0 = std::min(int(u_h), kNh - 1), j0 = std::min(int(u_d), kNd - 1);
   const int i1 = std::min(i0 + 1, kNh - 1), j1 = std::min(j0 + 1, kNd - 1);
@@ -168,7 +174,12 @@ Rgb TabulatedBrdf::evalInterpolated(float u_h, float u_d, float u_p) const {
 Rgb TabulatedBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (!(wi.z > 0 && wo.z > 0)) return Rgb(0.0f);  // below the horizon (or NaN input)
   const TableCoordinates u = tableCoordinates(wi, wo);
-  return lookup_ == TableLookup::Nearest ? evalNearest(u.u_h, u.u_d, u.u_p) : evalInterpolated(u.u_h, u.u_d, u.u_p);
+  switch (lookup_) {
+    case TableLookup::Nearest: return evalNearest(u.u_h, u.u_d, u.u_p);
+    case TableLookup::Truncated: return evalTruncated(u.u_h, u.u_d, u.u_p);
+    case TableLookup::Interpolated: break;
+  }
+  return evalInterpolated(u.u_h, u.u_d, u.u_p);
 }
 
 std::optional<BsdfSample> TabulatedBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
@@ -185,7 +196,12 @@ float TabulatedBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) co
 }
 
 std::string TabulatedBrdf::name() const {
-  return lookup_ == TableLookup::Nearest ? "tabulated(lookup=nearest)" : "tabulated(lookup=interpolated)";
+  switch (lookup_) {
+    case TableLookup::Nearest: return "tabulated(lookup=nearest)";
+    case TableLookup::Truncated: return "tabulated(lookup=truncated)";
+    case TableLookup::Interpolated: break;
+  }
+  return "tabulated(lookup=interpolated)";
 }
 
 MerlTable tabulate(const Material& material) {

@@ -3,8 +3,11 @@
 // Policies (documented in the README as well):
 // - Below the horizon (wi.z <= 0 or wo.z <= 0): eval returns 0.
 // - Table samples sit at integer table coordinates (MerlTable::thetaHalfOf etc.). Nearest lookup
-//   rounds the continuous coordinates to the closest sample (not MERL's truncation, which is half a
-//   cell off for samples placed at cell edges); Interpolated lookup is trilinear in the coordinates
+//   rounds the continuous coordinates to the closest sample; Truncated lookup is MERL's own reader
+//   (the coordinates rounded down, so each sample stands for the cell above it: half a cell off for
+//   samples placed at cell edges, and on a falling near-mirror peak it reads every cell at its
+//   higher end, which is why MERL's published albedos of mirror-like tables are higher than the
+//   interpolated ones); Interpolated lookup is trilinear in the coordinates
 //   (theta_h through its sqrt mapping; phi_d periodic with period pi by reciprocity; theta
 //   coordinates beyond the last sample take its value).
 // - Unmeasured samples (negative in any channel) never contribute. Nearest lookup returns the
@@ -24,7 +27,7 @@
 
 namespace btf {
 
-enum class TableLookup { Nearest, Interpolated };
+enum class TableLookup { Nearest, Interpolated, Truncated };
 
 class TabulatedBrdf final : public Material {
  public:
@@ -49,6 +52,7 @@ class TabulatedBrdf final : public Material {
   };
 
   Rgb evalNearest(float u_h, float u_d, float u_p) const;
+  Rgb evalTruncated(float u_h, float u_d, float u_p) const;
   Rgb evalInterpolated(float u_h, float u_d, float u_p) const;
 
   std::shared_ptr<const MerlTable> table_;
