@@ -20,7 +20,7 @@
 #include "btf/sampling/quadtree_sampler.h"
 #include "comma_list.h"
 #include "commands.h"
-#include "sampler_choice.h"
+#include "btf/sampling/sampler_choice.h"
 #include "sampling_charts.h"
 #include "sampling_measures.h"
 #include "sampling_table.h"

@@ -13,5 +13,7 @@ void registerPlotCommand(CLI::App& app);
 void registerSampleCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
 void registerCompressCommands(CLI::App& app);  // compress and decompress
+void registerCompareCommand(CLI::App& app);
+void registerRenderCommand(CLI::App& app);
 
 }  // namespace btf::cli

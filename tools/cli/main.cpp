@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   btf::cli::registerSampleCommand(app);
   btf::cli::registerBenchCommand(app);
   btf::cli::registerCompressCommands(app);
+  btf::cli::registerCompareCommand(app);
+  btf::cli::registerRenderCommand(app);
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);

@@ -15,7 +15,7 @@
 #include "commands.h"
 #include "measured_file.h"
 #include "sample_figure.h"
-#include "sampler_choice.h"
+#include "btf/sampling/sampler_choice.h"
 #include "sampling_measures.h"
 
 namespace btf::cli {

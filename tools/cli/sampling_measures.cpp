@@ -9,7 +9,7 @@
 
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
-#include "sampler_choice.h"
+#include "btf/sampling/sampler_choice.h"
 
 namespace btf::cli {
 namespace {

@@ -33,10 +33,12 @@ std::string modelList(const MerlFits& fits, const std::string& name) {
 
 }  // namespace
 
+std::vector<std::filesystem::path> defaultFitsFolders() { return {BTF_FITS_BUILD_DIR, installedFitsFolder()}; }
+
 MerlFits loadMerlFits(const std::string& fits_dir_option) {
   // An explicit folder that lacks the tables is a mistake to report, not to paper over.
   if (!fits_dir_option.empty()) return MerlFits::load(findMerlFitsFolder({fits_dir_option}));
-  return MerlFits::load(findMerlFitsFolder({BTF_FITS_BUILD_DIR, installedFitsFolder()}));
+  return MerlFits::load(findMerlFitsFolder(defaultFitsFolders()));
 }
 
 std::optional<MerlFitComparison> compareFitsOfFile(const std::filesystem::path& file, const std::string& name) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "btf/io/merl_fits.h"
 
@@ -21,6 +22,8 @@ inline constexpr double kFitDisagreementThreshold = 0.30;
 // at build time (../shared/data/real/fits), else from the installed copy (share/libbtf/fits next
 // to the executable's bin/). Throws btf::Error listing what was tried.
 MerlFits loadMerlFits(const std::string& fits_dir_option);
+// The folders searched when no --fits-dir is given, in order (for scenes with merl-fit materials).
+std::vector<std::filesystem::path> defaultFitsFolders();
 
 // The comparison of the published fits of the material a measured file is named after (its stem,
 // as MERL names its files: gold-metallic-paint.binary), or of `name` when given. Nothing when the

@@ -1,4 +1,4 @@
-// The samplers `btf sample` and `btf bench sampling` compare, by name: two warps that ignore the
+// The samplers `btf sample`, `btf bench sampling` and scenes choose from, by name: two warps that ignore the
 // material (uniform and cosine hemisphere), the material's own sample() (for an RGL file the
 // Dupuy-Jakob warp of its tensor: the peer baseline), and the three tabulated samplers of libbtf.
 #pragma once
@@ -10,9 +10,10 @@
 #include <string>
 #include <string_view>
 
+#include "btf/material/material.h"
 #include "btf/sampling/binned_sampler.h"
 
-namespace btf::cli {
+namespace btf {
 
 enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree };
 
@@ -32,4 +33,4 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
 // evaluates the weight. What "samples_per_s" times. Nothing when the draw returns no direction.
 std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3& wo, glm::vec2 u, float& pdf);
 
-}  // namespace btf::cli
+}  // namespace btf

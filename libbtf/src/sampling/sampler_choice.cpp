@@ -1,4 +1,4 @@
-#include "sampler_choice.h"
+#include "btf/sampling/sampler_choice.h"
 
 #include <array>
 #include <utility>
@@ -6,7 +6,7 @@
 #include "btf/core/error.h"
 #include "btf/sampling/warp.h"
 
-namespace btf::cli {
+namespace btf {
 namespace {
 
 constexpr std::array<std::pair<SamplerChoice, std::string_view>, 6> kNames = {{
@@ -95,4 +95,4 @@ std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3&
   return s->wi;
 }
 
-}  // namespace btf::cli
+}  // namespace btf

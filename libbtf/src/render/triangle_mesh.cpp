@@ -1,0 +1,278 @@
+#include "btf/render/triangle_mesh.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <utility>
+
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+
+namespace btf::render {
+namespace {
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string readFileBytes(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw FileError(path, "no such mesh file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(path, "cannot open the mesh file");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// zlib's gzip stream decoder; Assimp reads PLY from memory but does not unpack .gz itself.
+std::string gunzip(const std::filesystem::path& path, const std::string& packed) {
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw FileError(path, "cannot start the gzip decoder");
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(packed.data()));
+  z.avail_in = static_cast<uInt>(packed.size());
+  std::string out;
+  char buffer[1 << 16];
+  int rc = Z_OK;
+  while (rc != Z_STREAM_END) {
+    z.next_out = reinterpret_cast<Bytef*>(buffer);
+    z.avail_out = sizeof(buffer);
+    rc = inflate(&z, Z_NO_FLUSH);
+    if (rc != Z_OK && rc != Z_STREAM_END) {
+      inflateEnd(&z);
+      throw FileError(path, "corrupt gzip data");
+    }
+    out.append(buffer, sizeof(buffer) - z.avail_out);
+    if (rc == Z_OK && z.avail_in == 0 && z.avail_out != 0) {
+      inflateEnd(&z);
+      throw FileError(path, "truncated gzip data");
+    }
+  }
+  inflateEnd(&z);
+  return out;
+}
+
+std::string lowercase(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+Rgb colourOf(const aiMaterial* material, const char* key, unsigned type, unsigned index, Rgb fallback) {
+  aiColor3D c;
+  if (material && material->Get(key, type, index, c) == AI_SUCCESS) return {c.r, c.g, c.b};
+  return fallback;
+}
+
+}  // namespace
+
+std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) {
+  std::string extension = lowercase(path.extension().string());
+  std::string bytes = readFileBytes(path);
+  if (extension == ".gz") {
+    bytes = gunzip(path, bytes);
+    extension = lowercase(path.stem().extension().string());
+  }
+  if (extension != ".obj" && extension != ".ply")
+    throw FileError(path, "unknown mesh format '" + extension + "' (expected .obj, .ply or .ply.gz)");
+  if (bytes.empty()) throw FileError(path, "empty mesh file");
+
+  Assimp::Importer importer;
+  // No normal generation, no vertex welding across parts: normals are ours (computeVertexNormals),
+  // and an OBJ's parts stay separate meshes so each can get its own material.
+  // ValidateDataStructure runs first: a truncated or corrupt file can leave faces indexing past the
+  // vertex list, which the other steps would read without checking (a crash, not an error).
+  const unsigned flags =
+      aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+  const aiScene* scene = nullptr;
+  if (extension == ".obj") {
+    // From the file itself, so that the .mtl beside it is found.
+    if (path.extension() == ".gz") throw FileError(path, "gzipped OBJ files are not read (their .mtl could not be found)");
+    scene = importer.ReadFile(path.string(), flags);
+  } else {
+    scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, "ply");
+  }
+  if (!scene || !scene->mRootNode) {
+    const std::string why = importer.GetErrorString();
+    throw FileError(path, "cannot read the mesh" + (why.empty() ? std::string() : ": " + why));
+  }
+
+  // Meshes are referenced by nodes with transforms; OBJ and PLY put them all at the root with the
+  // identity, so meshes are taken as stored.
+  std::vector<TriangleMesh> meshes;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* in = scene->mMeshes[m];
+    if (!(in->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;  // points and lines
+    TriangleMesh out;
+    const std::string part = in->mName.length ? std::string(in->mName.C_Str()) : std::string();
+    out.name = path.string() + (part.empty() ? "" : ":" + part);
+    out.positions.resize(in->mNumVertices);
+    for (unsigned v = 0; v < in->mNumVertices; ++v)
+      out.positions[v] = {in->mVertices[v].x, in->mVertices[v].y, in->mVertices[v].z};
+    if (in->HasNormals()) {
+      out.normals.resize(in->mNumVertices);
+      for (unsigned v = 0; v < in->mNumVertices; ++v) {
+        const glm::vec3 n{in->mNormals[v].x, in->mNormals[v].y, in->mNormals[v].z};
+        const float len = glm::length(n);
+        out.normals[v] = len > 0 && std::isfinite(len) ? n / len : glm::vec3(0.0f);
+      }
+    }
+    if (in->HasTextureCoords(0)) {
+      out.uvs.resize(in->mNumVertices);
+      for (unsigned v = 0; v < in->mNumVertices; ++v) out.uvs[v] = {in->mTextureCoords[0][v].x, in->mTextureCoords[0][v].y};
+    }
+    out.triangles.reserve(in->mNumFaces);
+    for (unsigned f = 0; f < in->mNumFaces; ++f) {
+      const aiFace& face = in->mFaces[f];
+      if (face.mNumIndices == 3) out.triangles.push_back({face.mIndices[0], face.mIndices[1], face.mIndices[2]});
+    }
+    if (in->mMaterialIndex < scene->mNumMaterials) {
+      const aiMaterial* material = scene->mMaterials[in->mMaterialIndex];
+      aiString name;
+      if (material->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.file_material = name.C_Str();
+      out.file_diffuse = colourOf(material, AI_MATKEY_COLOR_DIFFUSE, out.file_diffuse);
+      out.file_emission = colourOf(material, AI_MATKEY_COLOR_EMISSIVE, out.file_emission);
+      // Assimp names the default material of a file without one; it carries no colours of the file.
+      if (out.file_material == AI_DEFAULT_MATERIAL_NAME) out.file_material.clear();
+    }
+    if (!out.triangles.empty()) meshes.push_back(std::move(out));
+  }
+  if (meshes.empty()) throw FileError(path, "the mesh has no faces");
+  return meshes;
+}
+
+MeshCleanup removeInvalidTriangles(TriangleMesh& mesh) {
+  MeshCleanup counts;
+  const std::size_t n = mesh.positions.size();
+  std::vector<glm::uvec3> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const glm::uvec3& t : mesh.triangles) {
+    if (t.x >= n || t.y >= n || t.z >= n) {
+      ++counts.out_of_range;
+      continue;
+    }
+    const glm::vec3 &a = mesh.positions[t.x], &b = mesh.positions[t.y], &c = mesh.positions[t.z];
+    if (!finite(a) || !finite(b) || !finite(c)) {
+      ++counts.non_finite;
+      continue;
+    }
+    // Zero area in float: the cross product of the edges vanishes (repeated or collinear corners).
+    const glm::vec3 cross = glm::cross(b - a, c - a);
+    if (!(glm::dot(cross, cross) > 0.0f)) {
+      ++counts.degenerate;
+      continue;
+    }
+    kept.push_back(t);
+  }
+  mesh.triangles = std::move(kept);
+  return counts;
+}
+
+void computeVertexNormals(TriangleMesh& mesh, float crease_deg) {
+  const std::size_t nf = mesh.triangles.size();
+  std::vector<glm::vec3> face_normal(nf);
+  std::vector<std::vector<std::uint32_t>> faces_of(mesh.positions.size());
+  for (std::size_t f = 0; f < nf; ++f) {
+    const glm::uvec3 t = mesh.triangles[f];
+    face_normal[f] = glm::normalize(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
+    for (int k = 0; k < 3; ++k) faces_of[t[k]].push_back(std::uint32_t(f));
+  }
+  auto openingAngle = [&](std::size_t f, std::uint32_t vertex) {
+    const glm::uvec3 t = mesh.triangles[f];
+    const int k = t.x == vertex ? 0 : (t.y == vertex ? 1 : 2);
+    const glm::vec3 p = mesh.positions[t[k]];
+    const glm::vec3 e1 = glm::normalize(mesh.positions[t[(k + 1) % 3]] - p);
+    const glm::vec3 e2 = glm::normalize(mesh.positions[t[(k + 2) % 3]] - p);
+    return std::acos(std::clamp(glm::dot(e1, e2), -1.0f, 1.0f));
+  };
+  const float cos_crease = std::cos(std::clamp(crease_deg, 0.0f, 180.0f) * kPi / 180.0f);
+
+  // Corners whose normals come out equal share one vertex again (exactly equal floats: the same
+  // set of faces was averaged), so a smooth mesh keeps its vertex count.
+  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec2> uvs;
+  std::map<std::pair<std::uint32_t, std::array<float, 3>>, std::uint32_t> vertex_of;
+  std::vector<glm::uvec3> triangles(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh.triangles[f][k];
+      glm::vec3 sum(0.0f);
+      for (const std::uint32_t g : faces_of[v])
+        if (glm::dot(face_normal[g], face_normal[f]) >= cos_crease) sum += openingAngle(g, v) * face_normal[g];
+      const float len = glm::length(sum);
+      const glm::vec3 n = len > 0 ? sum / len : face_normal[f];
+      const auto key = std::make_pair(v, std::array<float, 3>{n.x, n.y, n.z});
+      auto [it, inserted] = vertex_of.try_emplace(key, std::uint32_t(positions.size()));
+      if (inserted) {
+        positions.push_back(mesh.positions[v]);
+        normals.push_back(n);
+        if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[v]);
+      }
+      triangles[f][k] = it->second;
+    }
+  }
+  mesh.positions = std::move(positions);
+  mesh.normals = std::move(normals);
+  mesh.uvs = std::move(uvs);
+  mesh.triangles = std::move(triangles);
+}
+
+void transformMesh(TriangleMesh& mesh, const glm::mat4& transform) {
+  const glm::mat3 linear(transform);
+  if (!(std::abs(glm::determinant(linear)) > 0.0f)) throw Error(mesh.name + ": the transform is singular");
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  for (glm::vec3& p : mesh.positions) p = glm::vec3(transform * glm::vec4(p, 1.0f));
+  for (glm::vec3& n : mesh.normals)
+    if (n != glm::vec3(0.0f)) n = glm::normalize(normal_matrix * n);
+  // A mirroring transform flips the winding's normal; swapping two corners keeps the geometric
+  // normal on the side of the transformed vertex normals.
+  if (glm::determinant(linear) < 0.0f)
+    for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+}
+
+TriangleMesh makeQuad(const glm::vec3& corner, const glm::vec3& edge_u, const glm::vec3& edge_v, std::string name) {
+  TriangleMesh mesh;
+  mesh.name = std::move(name);
+  mesh.positions = {corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v};
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const glm::vec3 n = glm::cross(edge_u, edge_v);
+  if (!(glm::length(n) > 0.0f) || !finite(n)) throw Error(mesh.name + ": the quad's edges span no area");
+  mesh.normals.assign(4, glm::normalize(n));
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+TriangleMesh makeSphere(const glm::vec3& center, float radius, int rings, std::string name) {
+  TriangleMesh mesh;
+  mesh.name = std::move(name);
+  if (!(radius > 0.0f) || !std::isfinite(radius)) throw Error(mesh.name + ": the sphere's radius must be positive and finite");
+  if (!finite(center)) throw Error(mesh.name + ": the sphere's center must be finite");
+  rings = std::max(rings, 3);
+  const int segments = 2 * rings;
+  // Vertices on a (rings + 1) x (segments + 1) grid: the seam and the poles repeat positions so that
+  // UVs stay continuous; the pole rows make degenerate triangles, which are not emitted.
+  for (int i = 0; i <= rings; ++i) {
+    const float theta = kPi * float(i) / float(rings);
+    for (int j = 0; j <= segments; ++j) {
+      const float phi = kTwoPi * float(j) / float(segments);
+      const glm::vec3 n{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+      mesh.positions.push_back(center + radius * n);
+      mesh.normals.push_back(n);
+      mesh.uvs.push_back({float(j) / float(segments), float(i) / float(rings)});
+    }
+  }
+  auto at = [&](int i, int j) { return std::uint32_t(i * (segments + 1) + j); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      // Counter-clockwise seen from outside: the normal of the winding points out.
+      if (i > 0) mesh.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j)});
+      if (i + 1 < rings) mesh.triangles.push_back({at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  return mesh;
+}
+
+}  // namespace btf::render

@@ -1,0 +1,87 @@
+// `btf compare A B`: how far a test image A is from a reference image B (relmse, rel_rmse,
+// psnr_db, max_abs), and optionally a heat map of the relative error.
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "btf/core/error.h"
+#include "btf/io/image.h"
+#include "btf/render/image_metrics.h"
+#include "commands.h"
+
+namespace btf::cli {
+namespace {
+
+struct CompareOptions {
+  std::string test, reference, output;
+  double scale = 0.5;
+  bool json = false;
+};
+
+// JSON has no infinity: a non-finite measure (psnr_db of equal images) is written as "inf" or
+// "-inf", a string, rather than as null.
+nlohmann::json measureJson(double v) {
+  if (std::isfinite(v)) return v;
+  if (std::isnan(v)) return "nan";
+  return v > 0 ? "inf" : "-inf";
+}
+
+std::string formatMeasure(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+void runCompare(const CompareOptions& o) {
+  const Image test = readImage(o.test);
+  const Image reference = readImage(o.reference);
+  const render::ImageComparison c = render::compareImages(test, reference, o.test, o.reference);
+  if (!o.output.empty()) writeImage(o.output, render::errorHeatMap(test, reference, o.scale, o.test, o.reference));
+
+  const std::string legend = "per-pixel |A - B| / (|B| + 0.01), mean over channels, viridis: dark purple = 0, teal = " +
+                             formatMeasure(0.5 * o.scale) + ", yellow >= " + formatMeasure(o.scale);
+  if (o.json) {
+    nlohmann::json out{{"test", o.test},
+                       {"reference", o.reference},
+                       {"width", c.width},
+                       {"height", c.height},
+                       {"channels", c.channels},
+                       {"relmse", measureJson(c.relmse)},
+                       {"rel_rmse", measureJson(c.rel_rmse)},
+                       {"psnr_db", measureJson(c.psnr_db)},
+                       {"max_abs", measureJson(c.max_abs)}};
+    if (!o.output.empty()) out["heat_map"] = {{"file", o.output}, {"scale", o.scale}, {"legend", legend}};
+    std::cout << out.dump(2) << "\n";
+    return;
+  }
+  std::printf("test %s against reference %s: %dx%d, %s\n", o.test.c_str(), o.reference.c_str(), c.width, c.height,
+              c.channels == 3 ? "RGB" : "grey");
+  std::printf("relmse   %s  (mean (A-B)^2 / (B^2 + 0.01))\n", formatMeasure(c.relmse).c_str());
+  std::printf("rel_rmse %s  (RMSE / RMS of B)\n", formatMeasure(c.rel_rmse).c_str());
+  std::printf("psnr_db  %s  (peak = max of B)\n", formatMeasure(c.psnr_db).c_str());
+  std::printf("max_abs  %s\n", formatMeasure(c.max_abs).c_str());
+  if (!o.output.empty()) std::printf("wrote %s: %s\n", o.output.c_str(), legend.c_str());
+}
+
+}  // namespace
+
+void registerCompareCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compare", "Compare a test image with a reference (relmse, rel_rmse, psnr_db, max_abs)");
+  auto o = std::make_shared<CompareOptions>();
+  cmd->add_option("A", o->test, "Test image (EXR or any format OpenImageIO reads; linear values)")->required();
+  cmd->add_option("B", o->reference, "Reference image, the same size")->required();
+  cmd->add_option("-o,--output", o->output,
+                  "Write a heat map of the relative error |A - B| / (|B| + 0.01) (viridis, sRGB; .png)");
+  cmd->add_option("--scale", o->scale, "Relative error at the top (yellow) of the heat map")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_flag("--json", o->json, "Machine-readable output (a non-finite measure is the string \"inf\" or \"-inf\")");
+  cmd->callback([o] { runCompare(*o); });
+}
+
+}  // namespace btf::cli
