@@ -15,6 +15,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "acquisition_response.h"
 #include "btf_command.h"
+#include "scene_command.h"
 #include "merl_fit_report.h"
 #include "presets.h"
 #include "table_artifacts.h"
@@ -197,10 +198,13 @@ int main(int argc, char** argv) {
   CLI::App app{"btf-datagen: synthetic measured BRDFs in the MERL .binary format.\n"
                "Tabulates an analytic preset with what real measurements have (tint, grazing falloff,\n"
                "multiplicative noise, unmeasured holes), deterministic from --seed.\n"
-               "`btf-datagen btf ...` generates a synthetic BTF image folder instead (see btf-datagen btf --help).",
+               "`btf-datagen btf ...` generates a synthetic BTF image folder instead (see btf-datagen btf --help),\n"
+               "`btf-datagen scene ...` the built-in validation scenes (see btf-datagen scene --help).",
                "btf-datagen"};
   btf::datagen::BtfCommandOptions btf_options;
   CLI::App* btf_command = btf::datagen::addBtfCommand(app, btf_options);
+  btf::datagen::SceneCommandOptions scene_options;
+  CLI::App* scene_command = btf::datagen::addSceneCommand(app, scene_options);
   app.add_flag("--list-presets", o.list, "List the presets with their analytic albedo at normal incidence");
   auto* preset = app.add_option("--preset", o.preset, "Material preset (see --list-presets)");
   auto* merl_fit = app.add_option("--merl-fit", o.merl_fit,
@@ -236,6 +240,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (btf_command->parsed()) btf::datagen::runBtfCommand(btf_options);
+    else if (scene_command->parsed()) btf::datagen::runSceneCommand(scene_options);
     else btf::datagen::run(o);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);

@@ -326,7 +326,8 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
     const std::string type = s.has("type") ? s["type"].string() : std::string("mesh");
     std::vector<TriangleMesh> meshes;
     if (type == "mesh") {
-      s.allowOnly({"type", "file", "material", "part_materials", "transform", "shading", "crease_deg", "emission", "two_sided"});
+      s.allowOnly({"type", "file", "material", "part_materials", "skip_parts", "transform", "shading", "crease_deg", "emission",
+                   "two_sided"});
       meshes = loadTriangleMeshes(s["file"].existingPath());
     } else if (type == "sphere") {
       s.allowOnly({"type", "center", "radius", "rings", "material", "transform", "emission", "two_sided"});
@@ -357,8 +358,24 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       for (const auto& [part, value] : s["part_materials"].object())
         part_materials[part] = Node(value, s.pointer() + "/part_materials/" + part, s.file()).string();
     std::set<std::string> parts_used;
+    std::set<std::string> skip_parts;
+    if (s.has("skip_parts")) {
+      const Node list = s["skip_parts"];
+      list.requireArray();
+      for (std::size_t k = 0; k < list.size(); ++k) skip_parts.insert(list.at(k).string());
+    }
 
     for (TriangleMesh& mesh : meshes) {
+      {
+        const std::string group = mesh.name.find(':') != std::string::npos ? mesh.name.substr(mesh.name.rfind(':') + 1) : "";
+        bool skip = false;
+        for (const std::string& key : {mesh.file_material, group})
+          if (!key.empty() && skip_parts.count(key)) {
+            parts_used.insert(key);
+            skip = true;
+          }
+        if (skip) continue;
+      }
       if (flat) mesh.normals.clear();
       else if (mesh.normals.empty() && type == "mesh") {
         removeInvalidTriangles(mesh);  // normals of degenerate faces are undefined
@@ -401,6 +418,8 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
     }
     for (const auto& [part, m] : part_materials)
       if (!parts_used.count(part)) s["part_materials"][part].fail("the mesh has no part named '" + part + "'");
+    for (const std::string& part : skip_parts)
+      if (!parts_used.count(part)) s["skip_parts"].fail("the mesh has no part named '" + part + "'");
   }
 }
 
