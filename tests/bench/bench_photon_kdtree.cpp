@@ -25,8 +25,8 @@ using btf::cli::PhotonSearch;
 
 constexpr std::uint64_t kSeed = 1;
 constexpr std::size_t kNeighbors = 50;
-// Queries cycle through this many points, drawn as the photons are: more than the caches hold
-// once each has touched its leaves.
+// Queries cycle through this many points, drawn as the photons are: consecutive queries are
+// unrelated, as the gather points of random camera paths.
 constexpr std::size_t kQueryCount = 1 << 14;
 
 struct Scene {

@@ -12,6 +12,7 @@
 #include "bench_compressibility.h"
 #include "bench_compression.h"
 #include "bench_materials.h"
+#include "bench_render.h"
 #include "bench_summary.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
@@ -203,6 +204,7 @@ void registerBenchCommand(CLI::App& app) {
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);
   addBenchCompressibilityCommand(*bench);
+  addBenchRenderCommand(*bench);
 }
 
 }  // namespace btf::cli

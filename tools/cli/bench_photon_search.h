@@ -16,9 +16,11 @@ namespace btf::cli {
 
 struct PhotonSearchFigures {
   std::string structure;         // "kd-b-tree" (ours), "nanoflann", "flann"
-  double build_seconds;          // one thread for every structure (ours built serially)
-  double knn_queries_per_s;      // k nearest, unbounded, one thread
-  double radius_queries_per_s;   // fixed radius, one thread
+  // Times are the calling thread's CPU time; every structure is built and queried on one thread
+  // (ours built serially), queries as the best of a few passes.
+  double build_seconds;
+  double knn_queries_per_s;      // k nearest, unbounded
+  double radius_queries_per_s;   // fixed radius
   double mean_found_radius;      // points found per radius query
   std::size_t bytes;             // the index beyond the point coordinates: nodes and permutation
 };

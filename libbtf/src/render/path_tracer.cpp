@@ -43,13 +43,15 @@ bool sameSideOfBothNormals(const SurfaceHit& hit, const glm::vec3& w) {
   return glm::dot(w, hit.ng) > 0.0f && glm::dot(w, hit.shading.n) > 0.0f;
 }
 
-Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& settings, FirstHit* first, RayCounts& counts) {
+Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& settings, FirstHit* first, RayCounts& counts,
+              std::vector<TracedRay>* log) {
   Rgb radiance(0.0f), throughput(1.0f);
   float previous_pdf = 0.0f;  // solid-angle pdf of the material sample that made `ray`
   glm::vec3 previous_point = ray.origin;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
     if (depth > 0) ++counts.extension;
+    if (log) log->push_back({ray, false});
     if (!scene.intersect(ray, hit)) {
       if (scene.hasEnvironment()) {
         const Rgb le = scene.environment(ray.direction);
@@ -86,6 +88,7 @@ Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& setti
           ++counts.shadow;
           const Ray shadow = std::isinf(light->distance) ? scene.spawnRay(hit, light->wi)
                                                          : scene.spawnRayTo(hit, hit.p + light->wi * light->distance);
+          if (log) log->push_back({shadow, true});
           if (!scene.occluded(shadow)) {
             const float w = light->delta ? 1.0f : powerHeuristic(light->pdf, brdf.pdf(wi, wo, hit.uv));
             radiance += throughput * f * light->radiance * (wi.z * w / light->pdf);
@@ -116,11 +119,8 @@ Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& setti
   return radiance;
 }
 
-class PathTracer final : public Integrator {
- public:
-  std::string name() const override { return "pt"; }
-
-  RenderResult render(const Scene& scene, const RenderSettings& settings) const override {
+// One image; with a ray log the tiles run in order on this thread, so the log is the render's rays.
+RenderResult renderImage(const Scene& scene, const RenderSettings& settings, std::vector<TracedRay>* log) {
     validateSettings(settings);
     const auto start = std::chrono::steady_clock::now();
     const CameraSettings& cam = scene.camera().settings();
@@ -133,7 +133,7 @@ class PathTracer final : public Integrator {
       result.samples = Image(cam.width, cam.height, 1);
     }
     std::atomic<std::uint64_t> extension{0}, shadow{0};
-    forEachTile(cam.width, cam.height, settings.tile_size, "render (path tracing)", [&](const TileRange& tile) {
+    auto renderTile = [&](const TileRange& tile) {
       RayCounts counts;
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
@@ -147,7 +147,7 @@ class PathTracer final : public Integrator {
             const glm::vec2 jitter = rng.uniform2D();
             const Ray ray = scene.camera().generateRay(glm::vec2(float(x), float(y)) + jitter);
             FirstHit first;
-            const Rgb l = tracePath(scene, ray, rng, settings, settings.aovs ? &first : nullptr, counts);
+            const Rgb l = tracePath(scene, ray, rng, settings, settings.aovs ? &first : nullptr, counts, log);
             // A non-finite sample (a material returning NaN) would poison the pixel; drop it.
             if (l.isFinite()) sum += l;
             albedo += first.albedo;
@@ -167,16 +167,34 @@ class PathTracer final : public Integrator {
         }
       extension += counts.extension;
       shadow += counts.shadow;
-    });
+    };
+    if (log) {
+      for (int y0 = 0; y0 < cam.height; y0 += settings.tile_size)
+        for (int x0 = 0; x0 < cam.width; x0 += settings.tile_size)
+          renderTile(TileRange{x0, y0, std::min(cam.width, x0 + settings.tile_size), std::min(cam.height, y0 + settings.tile_size)});
+    } else {
+      forEachTile(cam.width, cam.height, settings.tile_size, "render (path tracing)", renderTile);
+    }
     result.stats.camera_rays = std::uint64_t(cam.width) * std::uint64_t(cam.height) * std::uint64_t(settings.spp);
     result.stats.extension_rays = extension;
     result.stats.shadow_rays = shadow;
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
+}
+
+class PathTracer final : public Integrator {
+ public:
+  std::string name() const override { return "pt"; }
+  RenderResult render(const Scene& scene, const RenderSettings& settings) const override {
+    return renderImage(scene, settings, nullptr);
   }
 };
 
 }  // namespace
+
+RenderResult renderPathTracedRecording(const Scene& scene, const RenderSettings& settings, std::vector<TracedRay>& rays) {
+  return renderImage(scene, settings, &rays);
+}
 
 void validateSettings(const RenderSettings& s) {
   if (s.spp < 1) throw Error("spp must be at least 1, got " + std::to_string(s.spp));

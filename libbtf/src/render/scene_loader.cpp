@@ -14,6 +14,7 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
+#include "btf/core/progress.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/merl.h"
 #include "btf/io/merl_fits.h"
@@ -31,6 +32,17 @@ namespace btf::render {
 namespace {
 
 using nlohmann::json;
+
+// A key as a JSON pointer token (RFC 6901): "~" and "/" are escaped as "~0" and "~1".
+std::string pointerToken(const std::string& key) {
+  std::string out;
+  for (const char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
 
 // A JSON value with where it sits in the file, so that every problem names its JSON pointer.
 class Node {
@@ -50,7 +62,7 @@ class Node {
     if (!value_->is_object()) fail("expected an object");
     const auto it = value_->find(key);
     if (it == value_->end()) fail("missing \"" + key + "\"");
-    return Node(*it, pointer_ + "/" + key, *file_);
+    return Node(*it, pointer_ + "/" + pointerToken(key), *file_);
   }
   Node at(std::size_t i) const { return Node((*value_)[i], pointer_ + "/" + std::to_string(i), *file_); }
   std::size_t size() const { return value_->size(); }
@@ -64,7 +76,7 @@ class Node {
       if (!ok) {
         std::string list;
         for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-        Node(v, pointer_ + "/" + key, *file_).fail("unknown key (expected one of: " + list + ")");
+        Node(v, pointer_ + "/" + pointerToken(key), *file_).fail("unknown key (expected one of: " + list + ")");
       }
     }
   }
@@ -321,6 +333,7 @@ int materialIndex(const Node& where, const std::string& name, const std::map<std
 
 void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string, int>& material_index) {
   list.requireArray();
+  if (list.size() == 0) list.fail("the scene has no shape");
   for (std::size_t i = 0; i < list.size(); ++i) {
     const Node s = list.at(i);
     const std::string type = s.has("type") ? s["type"].string() : std::string("mesh");
@@ -356,8 +369,11 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
     std::map<std::string, std::string> part_materials;
     if (s.has("part_materials"))
       for (const auto& [part, value] : s["part_materials"].object())
-        part_materials[part] = Node(value, s.pointer() + "/part_materials/" + part, s.file()).string();
+        part_materials[part] = Node(value, s.pointer() + "/part_materials/" + pointerToken(part), s.file()).string();
     std::set<std::string> parts_used;
+    std::set<std::string> file_materials;
+    for (const TriangleMesh& mesh : meshes)
+      if (!mesh.file_material.empty()) file_materials.insert(mesh.file_material);
     std::set<std::string> skip_parts;
     if (s.has("skip_parts")) {
       const Node list = s["skip_parts"];
@@ -378,7 +394,15 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       }
       if (flat) mesh.normals.clear();
       else if (mesh.normals.empty() && type == "mesh") {
-        removeInvalidTriangles(mesh);  // normals of degenerate faces are undefined
+        // Normals of degenerate faces are undefined, so they go now; the Scene, which warns about
+        // what it drops, would find nothing left to count.
+        const MeshCleanup dropped = removeInvalidTriangles(mesh);
+        const std::size_t total = dropped.degenerate + dropped.non_finite + dropped.out_of_range;
+        if (total > 0)
+          log(LogLevel::Warning, mesh.name + ": dropped " + std::to_string(total) + " triangles (" +
+                                     std::to_string(dropped.degenerate) + " of zero area, " +
+                                     std::to_string(dropped.non_finite) + " with NaN or infinite vertices, " +
+                                     std::to_string(dropped.out_of_range) + " with vertex indices out of range)");
         if (!mesh.triangles.empty()) computeVertexNormals(mesh, crease);
       }
       transformMesh(mesh, transform);
@@ -387,15 +411,15 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       shape.two_sided_emission = two_sided;
       // The part's name: the .mtl material, else the group (the text after the file name).
       const std::string group = mesh.name.find(':') != std::string::npos ? mesh.name.substr(mesh.name.rfind(':') + 1) : "";
-      std::string part_material;
-      for (const std::string& key : {mesh.file_material, group})
-        if (!key.empty() && part_materials.count(key)) {
-          part_material = part_materials[key];
-          parts_used.insert(key);
-          break;
-        }
-      if (!part_material.empty()) {
-        shape.material = materialIndex(s["part_materials"], part_material, material_index);
+      // A key that is the .mtl name of some part selects by .mtl name only: OBJ groups and
+      // materials need not agree (CornellBox-Original.obj keeps its tall box in group "shortBox"),
+      // and overriding "shortBox" must not repaint the tall box too.
+      std::string part_key;
+      if (!mesh.file_material.empty() && part_materials.count(mesh.file_material)) part_key = mesh.file_material;
+      else if (!group.empty() && part_materials.count(group) && !file_materials.count(group)) part_key = group;
+      if (!part_key.empty()) {
+        parts_used.insert(part_key);
+        shape.material = materialIndex(s["part_materials"][part_key], part_materials[part_key], material_index);
       } else if (material == "mtl") {
         const std::string name = s["file"].string() + ":" + (mesh.file_material.empty() ? "default" : mesh.file_material);
         auto [it, inserted] = material_index.try_emplace(name, int(scene.materials.size()));
@@ -502,7 +526,7 @@ SceneDescription loadSceneDescription(const std::filesystem::path& file, const S
   std::map<std::string, int> material_index;
   if (root.has("materials"))
     for (const auto& [name, value] : root["materials"].object()) {
-      const Node m(value, "/materials/" + name, file);
+      const Node m(value, "/materials/" + pointerToken(name), file);
       if (name == "mtl") m.fail("the name 'mtl' is reserved (it stands for an OBJ file's own .mtl colours)");
       material_index[name] = int(scene.materials.size());
       scene.materials.push_back(loadMaterial(name, m, context));

@@ -8,10 +8,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <utility>
 
 #include "btf/core/error.h"
@@ -62,6 +65,134 @@ std::string lowercase(std::string s) {
   return s;
 }
 
+// Assimp's PLY reader loops forever on a header without "end_header", and reads a body that ends
+// early as if it were complete (faces of garbage) or past its end. So the structure is checked
+// first: a complete header, and a body holding every element the header declares.
+void checkPlyStructure(const std::filesystem::path& path, const std::string& bytes) {
+  auto fail = [&](const std::string& problem) { throw FileError(path, problem); };
+  struct Property {
+    int size = 0;        // bytes of a scalar, or of a list's items
+    int count_size = 0;  // bytes of a list's count; 0 for a scalar
+    bool count_signed = false;
+  };
+  struct Element {
+    std::string name;
+    unsigned long long count = 0;
+    std::vector<Property> properties;
+  };
+  auto typeSize = [](const std::string& type) {
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") return 4;
+    if (type == "double" || type == "float64") return 8;
+    return 0;
+  };
+
+  // The header: lines up to "end_header".
+  std::size_t pos = 0;
+  std::string format;
+  std::vector<Element> elements;
+  bool first = true, ended = false;
+  while (!ended) {
+    const std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) fail("truncated PLY header (no end_header line)");
+    std::string line = bytes.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (first) {
+      if (keyword != "ply") fail("not a PLY file (it does not start with \"ply\")");
+      first = false;
+    } else if (keyword == "format") {
+      words >> format;
+    } else if (keyword == "element") {
+      Element e;
+      std::string count;
+      words >> e.name >> count;
+      const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), e.count);
+      if (ec != std::errc() || end != count.data() + count.size()) fail("malformed PLY header line '" + line + "'");
+      elements.push_back(std::move(e));
+    } else if (keyword == "property") {
+      if (elements.empty()) fail("malformed PLY header: a property before any element");
+      std::string type;
+      words >> type;
+      Property p;
+      if (type == "list") {
+        std::string count_type, item_type;
+        words >> count_type >> item_type;
+        p.count_size = typeSize(count_type);
+        p.count_signed = count_type == "char" || count_type == "short" || count_type.rfind("int", 0) == 0;
+        p.size = typeSize(item_type);
+        if (p.count_size == 0 || count_type.find("float") != std::string::npos || count_type == "double")
+          fail("malformed PLY header line '" + line + "'");
+      } else {
+        p.size = typeSize(type);
+      }
+      if (p.size == 0) fail("malformed PLY header line '" + line + "'");
+      elements.back().properties.push_back(p);
+    } else if (keyword == "end_header") {
+      ended = true;
+    } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
+      fail("malformed PLY header line '" + line + "'");
+    }
+  }
+  const bool ascii = format == "ascii";
+  const bool big_endian = format == "binary_big_endian";
+  if (!ascii && !big_endian && format != "binary_little_endian") fail("unknown PLY format '" + format + "'");
+
+  // The body. Every element instance with a property takes at least one byte or one word, so the
+  // walk ends within the file's size whatever counts the header declares.
+  const char* const end = bytes.data() + bytes.size();
+  const char* at = bytes.data() + pos;
+  auto truncated = [&](const Element& e, unsigned long long i) {
+    fail("truncated PLY: the data ends in element '" + e.name + "' " + std::to_string(i) + " of " + std::to_string(e.count));
+  };
+  auto nextWord = [&](double& value) {
+    while (at < end && std::isspace(static_cast<unsigned char>(*at))) ++at;
+    const char* start = at;
+    while (at < end && !std::isspace(static_cast<unsigned char>(*at))) ++at;
+    if (start == at) return false;
+    const char* digits = *start == '+' ? start + 1 : start;  // from_chars takes no plus sign
+    const auto [stop, ec] = std::from_chars(digits, at, value);
+    if (ec != std::errc() || stop != at) fail("malformed PLY data: '" + std::string(start, at) + "' is not a number");
+    return true;
+  };
+  auto readCount = [&](const Property& p) {
+    unsigned char raw[4] = {};
+    for (int b = 0; b < p.count_size; ++b) raw[big_endian ? p.count_size - 1 - b : b] = static_cast<unsigned char>(at[b]);
+    std::uint32_t u = 0;
+    for (int b = p.count_size - 1; b >= 0; --b) u = (u << 8) | raw[b];
+    at += p.count_size;
+    const bool negative = p.count_signed && (raw[p.count_size - 1] & 0x80u);
+    return negative ? -1.0 : double(u);
+  };
+  for (const Element& e : elements) {
+    if (e.properties.empty()) continue;
+    for (unsigned long long i = 0; i < e.count; ++i)
+      for (const Property& p : e.properties) {
+        double n = 1;
+        if (ascii) {
+          if (!nextWord(n)) truncated(e, i);
+          if (p.count_size > 0) {
+            if (!(n >= 0) || n != std::floor(n)) fail("malformed PLY data: a list of " + std::to_string(n) + " items");
+            for (double k = 0, v = 0; k < n; ++k)
+              if (!nextWord(v)) truncated(e, i);
+          }
+        } else {
+          if (p.count_size > 0) {
+            if (end - at < p.count_size) truncated(e, i);
+            n = readCount(p);
+            if (n < 0) fail("malformed PLY data: a list of negative length");
+          }
+          if (double(end - at) < n * p.size) truncated(e, i);
+          at += std::ptrdiff_t(n) * p.size;
+        }
+      }
+  }
+}
+
 Rgb colourOf(const aiMaterial* material, const char* key, unsigned type, unsigned index, Rgb fallback) {
   aiColor3D c;
   if (material && material->Get(key, type, index, c) == AI_SUCCESS) return {c.r, c.g, c.b};
@@ -91,9 +222,10 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) 
   const aiScene* scene = nullptr;
   if (extension == ".obj") {
     // From the file itself, so that the .mtl beside it is found.
-    if (path.extension() == ".gz") throw FileError(path, "gzipped OBJ files are not read (their .mtl could not be found)");
+    if (lowercase(path.extension().string()) == ".gz") throw FileError(path, "gzipped OBJ files are not read (their .mtl could not be found)");
     scene = importer.ReadFile(path.string(), flags);
   } else {
+    checkPlyStructure(path, bytes);
     scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, "ply");
   }
   if (!scene || !scene->mRootNode) {
@@ -134,10 +266,15 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) 
       const aiMaterial* material = scene->mMaterials[in->mMaterialIndex];
       aiString name;
       if (material->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.file_material = name.C_Str();
-      out.file_diffuse = colourOf(material, AI_MATKEY_COLOR_DIFFUSE, out.file_diffuse);
-      out.file_emission = colourOf(material, AI_MATKEY_COLOR_EMISSIVE, out.file_emission);
-      // Assimp names the default material of a file without one; it carries no colours of the file.
-      if (out.file_material == AI_DEFAULT_MATERIAL_NAME) out.file_material.clear();
+      // Assimp gives a file without materials a stand-in (named AI_DEFAULT_MATERIAL_NAME for OBJ,
+      // nameless for PLY); it carries no colours of the file (its own are 0.6 grey for OBJ, white
+      // for PLY), so the mesh keeps the defaults of TriangleMesh.
+      if (out.file_material.empty() || out.file_material == AI_DEFAULT_MATERIAL_NAME) {
+        out.file_material.clear();
+      } else {
+        out.file_diffuse = colourOf(material, AI_MATKEY_COLOR_DIFFUSE, out.file_diffuse);
+        out.file_emission = colourOf(material, AI_MATKEY_COLOR_EMISSIVE, out.file_emission);
+      }
     }
     if (!out.triangles.empty()) meshes.push_back(std::move(out));
   }

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "btf/io/image.h"
 #include "btf/render/scene.h"
@@ -56,6 +57,15 @@ class Integrator {
 // Unidirectional path tracing: next-event estimation and material sampling combined by multiple
 // importance sampling (power heuristic), Russian roulette by throughput after rr_min_depth.
 std::unique_ptr<Integrator> makePathTracer();
+
+// For benchmarks: renders like makePathTracer() on one thread and appends every ray it traces
+// (camera, extension and shadow rays, in order) to `rays`, so that a bare loop of BVH queries can
+// be timed on exactly the rays of a render.
+struct TracedRay {
+  Ray ray;
+  bool shadow;  // an occlusion query; otherwise a closest-hit query
+};
+RenderResult renderPathTracedRecording(const Scene& scene, const RenderSettings& settings, std::vector<TracedRay>& rays);
 
 // Checks what every integrator requires of the settings; throws btf::Error naming the setting.
 void validateSettings(const RenderSettings& settings);

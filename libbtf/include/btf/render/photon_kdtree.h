@@ -1,11 +1,12 @@
 // The photon map's search structure: a kd-B-tree over 3D points (kd-tree whose leaves are buckets
 // of points), built by sliding-midpoint splits.
 //
-// Why this shape: photon gathering asks for tens of neighbours, so a leaf of a few dozen points
-// scanned linearly costs about as much as one more tree level, and the points of a leaf lie
-// contiguously in memory (the tree reorders them) so that a scan streams one run of cache lines
-// instead of chasing an index per point. Sliding-midpoint splits adapt to photons lying on
-// surfaces (2D sets in 3D), where median splits make long thin cells that prune badly.
+// Why this shape: photon gathering asks for tens of neighbours, so the search reads a few dozen
+// points around the query anyway, and reading them as whole leaves is cheap: the points of a leaf
+// lie contiguously in memory (the tree reorders them), a scan streams one run of cache lines
+// instead of chasing an index per point, and it needs no branch per point. Sliding-midpoint splits
+// adapt to photons lying on surfaces (2D sets in 3D), where median splits make long thin cells
+// that prune badly.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -21,8 +22,8 @@ class PhotonKdTree {
  public:
   // Leaves hold between kMinLeafSize and kMaxLeafSize points (fewer only when the whole tree
   // does): a node of more than kMaxLeafSize points is split, and the split plane slides so that
-  // neither side gets fewer than kMinLeafSize. A 64-point leaf is 768 bytes of coordinates, a few
-  // dozen cache lines streamed per visit, about what a k = 50 query needs anyway.
+  // neither side gets fewer than kMinLeafSize. A 64-point leaf is 768 bytes of coordinates (twelve
+  // cache lines), comparable to the neighbourhood of a k = 50 query.
   static constexpr std::uint32_t kMinLeafSize = 32;
   static constexpr std::uint32_t kMaxLeafSize = 64;
 
@@ -60,11 +61,11 @@ class PhotonKdTree {
   // order()[i] = index in the constructor's input of points()[i].
   std::span<const std::uint32_t> order() const { return order_; }
 
-  // The k nearest points with distance2 <= max_distance2, sorted by ascending distance2 (ties in
-  // no particular order), into out (cleared first). Allocates nothing once out has capacity k.
+  // The k nearest points with distance2 <= max_distance2, sorted by ascending distance2 (equal
+  // ones by index), into out (cleared first). Allocates nothing once out has capacity k + 1.
   void knn(const glm::vec3& query, std::size_t k, float max_distance2, std::vector<Neighbor>& out) const;
   // Every point with distance2 <= radius2, in no particular order, into out (cleared first).
-  // Allocates nothing once out has capacity for the points found.
+  // Allocates nothing once out has capacity for the points found plus kMaxLeafSize.
   void withinRadius(const glm::vec3& query, float radius2, std::vector<Neighbor>& out) const;
 
   // Memory of the node array (the points and order() come on top: 16 bytes per point).
