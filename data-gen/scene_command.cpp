@@ -40,6 +40,16 @@ fs::path generateBtf(const SceneCommandOptions& o, const fs::path& dir) {
   return file;
 }
 
+// The scene material of a file, by its kind: a MERL table, an RGL file, or a BTF (.btfz or an
+// image folder; a compressed BRDF is a one-texel BTF).
+json materialOf(const fs::path& file, const std::string& sampler) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec) || file.extension() == ".btfz") return {{"type", "btf"}, {"file", file.string()}};
+  if (file.extension() == ".bsdf") return {{"type", "rgl"}, {"file", file.string()}, {"sampler", sampler}};
+  if (file.extension() == ".binary") return {{"type", "merl"}, {"file", file.string()}, {"sampler", sampler}};
+  throw FileError(file, "is not a material file (expected .binary, .bsdf, .btfz or a BTF image folder)");
+}
+
 json camera(const json& position, const json& look_at, float fov, int resolution) {
   return {{"position", position}, {"look_at", look_at}, {"up", {0, 1, 0}}, {"fov_deg", fov}, {"resolution", {resolution, resolution}}};
 }
@@ -49,8 +59,10 @@ json cornell(const SceneCommandOptions& o, const fs::path& dir) {
   const fs::path obj = meshes / "cornell_box" / "CornellBox-Original.obj";
   if (!fs::exists(obj)) throw FileError(obj, "the Cornell box mesh is missing (give the shared meshes folder with --meshes)");
   const fs::path rgl = o.rgl.empty() ? meshes.parent_path() / "rgl_bsdf" / "vch_golden_yellow_rgb.bsdf" : fs::absolute(o.rgl);
-  json materials = {{"sphere", {{"type", "merl"}, {"file", generateBrdf(o, dir).string()}, {"sampler", o.sampler}}},
-                    {"block", {{"type", "btf"}, {"file", generateBtf(o, dir).string()}, {"mapping", "box"}, {"uv_scale", 2.0}}}};
+  json block = materialOf(generateBtf(o, dir), o.sampler);
+  block["mapping"] = "box";
+  block["uv_scale"] = 2.0;
+  json materials = {{"sphere", materialOf(generateBrdf(o, dir), o.sampler)}, {"block", block}};
   json part_materials = {{"tallBox", "block"}};
   if (fs::exists(rgl)) {
     materials["film"] = {{"type", "rgl"}, {"file", rgl.string()}, {"sampler", o.sampler}};
@@ -70,7 +82,7 @@ json furnace(const SceneCommandOptions& o, const fs::path& dir) {
   return {{"comment", "btf-datagen scene furnace: a sphere of the generated BRDF in a uniform environment of radiance 1; each pixel is the directional albedo at its view angle"},
           {"camera", camera({0, 0, 4}, {0, 0, 0}, 30.0f, o.resolution)},
           {"render", {{"spp", o.spp}, {"max_depth", 32}}},
-          {"materials", {{"sphere", {{"type", "merl"}, {"file", generateBrdf(o, dir).string()}, {"sampler", o.sampler}}}}},
+          {"materials", {{"sphere", materialOf(generateBrdf(o, dir), o.sampler)}}},
           {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"rings", 128}, {"material", "sphere"}}}},
           {"lights", {{{"type", "environment"}, {"radiance", {1, 1, 1}}}}}};
 }

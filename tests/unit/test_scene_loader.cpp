@@ -418,6 +418,22 @@ TEST(SceneLoader, CornellBoxMtl) {
   }
   EXPECT_EQ(gold_triangles, 12u);
 
+  // Skipping the short box leaves the tall one.
+  s["shapes"][0].erase("part_materials");
+  s["shapes"][0]["skip_parts"] = {"shortBox", "light"};
+  s["shapes"].push_back(baseScene()["shapes"][1]);  // a light instead of the box's own
+  const SceneDescription skipped = loadScene(dir, s);
+  std::size_t kept_triangles = 0;
+  for (const SceneShape& shape : skipped.shapes) {
+    EXPECT_NE(shape.mesh.file_material, "shortBox");
+    EXPECT_NE(shape.mesh.file_material, "light");
+    if (shape.mesh.file_material == "tallBox") kept_triangles += shape.mesh.triangles.size();
+  }
+  EXPECT_EQ(kept_triangles, 12u);
+  s["shapes"][0]["skip_parts"] = {"shortbox"};
+  expectLoadError(writeScene(dir, s, "skip-typo.json"), {"/shapes/0/skip_parts", "no part named 'shortbox'"});
+  s["shapes"][0].erase("skip_parts");
+
   s["shapes"][0]["part_materials"] = {{"tallbox", "gold"}};  // names are case-sensitive
   expectLoadError(writeScene(dir, s, "typo.json"), {"/shapes/0/part_materials/tallbox", "no part named"});
 }
@@ -648,6 +664,10 @@ TEST(SceneLoaderErrors, Lights) {
   expectSceneError(s, {"/lights/0/radiance", "zero radiance"});
   s["lights"] = json::parse(R"([{"type": "environment", "file": "sky.exr"}])");
   expectSceneError(s, {"/lights/0/file", "no such file"});
+  s["lights"] = json::parse(R"([{"type": "environment", "file": "sky.exr", "radiance": 1}])");
+  expectSceneError(s, {"/lights/0", "either a \"radiance\" or a \"file\""});
+  s["lights"] = json::parse(R"([{"type": "environment", "radiance": 1, "scale": 2}])");
+  expectSceneError(s, {"/lights/0/scale", "applies to an environment map"});
   s["lights"] = json::parse(R"([{"type": "area", "position": [0, 1, 0]}])");
   expectSceneError(s, {"/lights/0/type", "unknown light type 'area'"});
   s["lights"] = json::parse(R"({"type": "point"})");
@@ -741,6 +761,26 @@ TEST(SceneLoaderScene, DropsNanAndDegenerateTrianglesAndRendersTheRest) {
   ASSERT_EQ(result.color.height, 8);
   for (float v : result.color.pixels) ASSERT_TRUE(std::isfinite(v));
   EXPECT_GT(result.color.at(4, 4, 0), 0.0f);  // the middle of the image sees the lit square
+}
+
+// Vertices that no (kept) triangle uses are not part of the scene: an infinite one of a dropped
+// triangle, or a stray point far away, must not blow up the scene's bounds.
+TEST(SceneLoaderScene, BoundsIgnoreVerticesNoTriangleUses) {
+  TriangleMesh mesh = grid();
+  const auto far_vertex = std::uint32_t(mesh.positions.size());
+  mesh.positions.push_back({0.0f, std::numeric_limits<float>::infinity(), 0.0f});
+  mesh.positions.push_back({1e6f, 0.0f, 0.0f});  // used by nothing
+  mesh.triangles.push_back({0, 1, far_vertex});
+  CapturedLog log;
+  const Scene scene(codeScene(mesh));
+  EXPECT_NEAR(scene.boundsRadius(), 0.5f * std::sqrt(2.0f), 1e-5f);
+  EXPECT_NEAR(scene.boundsCenter().x, 0.5f, 1e-6f);
+  EXPECT_NEAR(scene.boundsCenter().y, 0.5f, 1e-6f);
+  RenderSettings settings;
+  settings.spp = 2;
+  const RenderResult result = makePathTracer()->render(scene, settings);
+  for (float v : result.color.pixels) ASSERT_TRUE(std::isfinite(v));
+  EXPECT_GT(result.color.at(4, 4, 0), 0.0f);
 }
 
 TEST(SceneLoaderScene, MeshWithOnlyDegenerateTrianglesIsAnError) {

@@ -244,6 +244,37 @@ TEST(TriangleMeshNormals, SmoothMeshKeepsItsVertices) {
   }
 }
 
+// A file splits a vertex where its UVs jump; the surface must stay smooth across the seam.
+TEST(TriangleMeshNormals, UvSeamDoesNotCreaseTheSurface) {
+  const int n = 9, seam = 4;
+  const TriangleMesh whole = heightfield(n);
+  TriangleMesh split = whole;
+  // Copies of the seam column with their own UVs, used by the triangles right of the seam.
+  std::map<std::uint32_t, std::uint32_t> copy_of;
+  for (int j = 0; j < n; ++j) {
+    const auto v = std::uint32_t(j * n + seam);
+    copy_of[v] = std::uint32_t(split.positions.size());
+    split.positions.push_back(split.positions[v]);
+    split.uvs.push_back(split.uvs[v] + glm::vec2(7.0f, 0.0f));
+  }
+  for (glm::uvec3& t : split.triangles) {
+    const float cx = (split.positions[t.x].x + split.positions[t.y].x + split.positions[t.z].x) / 3.0f;
+    if (cx > split.positions[seam].x)
+      for (int k = 0; k < 3; ++k)
+        if (copy_of.count(t[k])) t[k] = copy_of[t[k]];
+  }
+  TriangleMesh smooth_whole = whole;
+  computeVertexNormals(smooth_whole, 60.0f);
+  computeVertexNormals(split, 60.0f);
+  EXPECT_EQ(split.positions.size(), whole.positions.size() + std::size_t(n));  // the seam stays, no new split
+  ASSERT_EQ(split.triangles.size(), smooth_whole.triangles.size());
+  for (std::size_t f = 0; f < split.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 a = split.normals[split.triangles[f][k]], b = smooth_whole.normals[smooth_whole.triangles[f][k]];
+      EXPECT_EQ(a, b) << "triangle " << f << " corner " << k;
+    }
+}
+
 TEST(TriangleMeshNormals, ReplacesNormalsTheMeshHad) {
   TriangleMesh mesh = cube();
   mesh.normals.assign(mesh.positions.size(), glm::vec3(1, 0, 0));
@@ -552,6 +583,8 @@ TEST(TriangleMeshFiles, UnknownExtension) {
   expectLoadError(dir / "mesh.stl", "unknown mesh format");
   expectLoadError(dir / "mesh", "unknown mesh format");
   expectLoadError(dir / "mesh.txt.gz", "unknown mesh format");
+  writeFile(dir / "mesh.obj.GZ", gzipStored("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  expectLoadError(dir / "mesh.obj.GZ", "gzipped OBJ files are not read");
 }
 
 TEST(TriangleMeshFiles, CorruptGzip) {

@@ -135,7 +135,9 @@ void registerRenderCommand(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "Seed of the pixel streams")->capture_default_str();
   cmd->add_option("--sampler", o->sampler, "Sampler of every material, replacing the scene's: " + samplerChoiceNames());
   cmd->add_flag("--aovs", o->aovs, "Also write albedo, normal, depth and sample-count images");
-  cmd->add_option("--exposure", o->exposure, "Exposure of the PNG preview in stops")->capture_default_str();
+  cmd->add_option("--exposure", o->exposure, "Exposure of the PNG preview in stops")
+      ->check(CLI::Range(-64.0f, 64.0f))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Machine-readable summary");
   cmd->callback([o] { runRender(*o); });
 }

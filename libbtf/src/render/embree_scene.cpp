@@ -80,10 +80,14 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes) : handl
     }
     std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
     std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3));
-    for (const glm::vec3& p : mesh.positions) {
-      bounds_min_ = glm::min(bounds_min_, p);
-      bounds_max_ = glm::max(bounds_max_, p);
-    }
+    // Over the vertices of triangles only: a vertex no triangle uses (one of a dropped triangle,
+    // possibly infinite, or a stray point of the file) is not part of the scene, and an infinite
+    // bound would make the scene's ray offsets and environment power infinite.
+    for (const glm::uvec3& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k) {
+        bounds_min_ = glm::min(bounds_min_, mesh.positions[t[k]]);
+        bounds_max_ = glm::max(bounds_max_, mesh.positions[t[k]]);
+      }
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(h.scene, geometry, unsigned(m));
     rtcReleaseGeometry(geometry);

@@ -381,16 +381,21 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       for (std::size_t k = 0; k < list.size(); ++k) skip_parts.insert(list.at(k).string());
     }
 
+    // The key of `keys` (part_materials or skip_parts) that names a part: its .mtl name, else its
+    // group (the text after the file name). A key that is the .mtl name of some part of the file
+    // selects by .mtl name only: OBJ groups and materials need not agree (CornellBox-Original.obj
+    // keeps its tall box in group "shortBox"), and "shortBox" must not select the tall box too.
+    auto partKey = [&](const TriangleMesh& mesh, const auto& keys) -> std::string {
+      if (!mesh.file_material.empty() && keys.count(mesh.file_material)) return mesh.file_material;
+      const std::string group = mesh.name.find(':') != std::string::npos ? mesh.name.substr(mesh.name.rfind(':') + 1) : "";
+      if (!group.empty() && keys.count(group) && !file_materials.count(group)) return group;
+      return {};
+    };
+
     for (TriangleMesh& mesh : meshes) {
-      {
-        const std::string group = mesh.name.find(':') != std::string::npos ? mesh.name.substr(mesh.name.rfind(':') + 1) : "";
-        bool skip = false;
-        for (const std::string& key : {mesh.file_material, group})
-          if (!key.empty() && skip_parts.count(key)) {
-            parts_used.insert(key);
-            skip = true;
-          }
-        if (skip) continue;
+      if (const std::string skipped = partKey(mesh, skip_parts); !skipped.empty()) {
+        parts_used.insert(skipped);
+        continue;
       }
       if (flat) mesh.normals.clear();
       else if (mesh.normals.empty() && type == "mesh") {
@@ -409,15 +414,7 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       SceneShape shape;
       shape.emission = emission;
       shape.two_sided_emission = two_sided;
-      // The part's name: the .mtl material, else the group (the text after the file name).
-      const std::string group = mesh.name.find(':') != std::string::npos ? mesh.name.substr(mesh.name.rfind(':') + 1) : "";
-      // A key that is the .mtl name of some part selects by .mtl name only: OBJ groups and
-      // materials need not agree (CornellBox-Original.obj keeps its tall box in group "shortBox"),
-      // and overriding "shortBox" must not repaint the tall box too.
-      std::string part_key;
-      if (!mesh.file_material.empty() && part_materials.count(mesh.file_material)) part_key = mesh.file_material;
-      else if (!group.empty() && part_materials.count(group) && !file_materials.count(group)) part_key = group;
-      if (!part_key.empty()) {
+      if (const std::string part_key = partKey(mesh, part_materials); !part_key.empty()) {
         parts_used.insert(part_key);
         shape.material = materialIndex(s["part_materials"][part_key], part_materials[part_key], material_index);
       } else if (material == "mtl") {
@@ -462,6 +459,8 @@ void loadLights(const Node& list, SceneDescription& scene) {
       l.allowOnly({"type", "radiance", "file", "scale"});
       if (environment) l.fail("a scene has at most one environment");
       environment = true;
+      if (l.has("file") == l.has("radiance")) l.fail("an environment has either a \"radiance\" or a \"file\"");
+      if (l.has("scale") && !l.has("file")) l["scale"].fail("\"scale\" applies to an environment map (\"file\")");
       if (l.has("file")) {
         const float scale = l.has("scale") ? float(l["scale"].positive()) : 1.0f;
         scene.environment_map = std::make_shared<EnvironmentMap>(EnvironmentMap::load(l["file"].existingPath(), scale));

@@ -311,16 +311,33 @@ MeshCleanup removeInvalidTriangles(TriangleMesh& mesh) {
 
 void computeVertexNormals(TriangleMesh& mesh, float crease_deg) {
   const std::size_t nf = mesh.triangles.size();
+  // Faces meet at a position, not at a vertex index: a file splits a vertex wherever its UVs jump
+  // (a texture seam), and averaging per index would crease the surface along every such seam.
+  std::vector<std::uint32_t> position_id(mesh.positions.size());
+  std::uint32_t positions_seen = 0;
+  {
+    std::map<std::array<float, 3>, std::uint32_t> id_of;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      const glm::vec3 p = mesh.positions[v];
+      if (!finite(p)) {
+        position_id[v] = positions_seen++;  // NaN does not compare: never merged
+        continue;
+      }
+      const auto [it, inserted] = id_of.try_emplace(std::array<float, 3>{p.x, p.y, p.z}, positions_seen);
+      if (inserted) ++positions_seen;
+      position_id[v] = it->second;
+    }
+  }
   std::vector<glm::vec3> face_normal(nf);
-  std::vector<std::vector<std::uint32_t>> faces_of(mesh.positions.size());
+  std::vector<std::vector<std::uint32_t>> faces_of(positions_seen);
   for (std::size_t f = 0; f < nf; ++f) {
     const glm::uvec3 t = mesh.triangles[f];
     face_normal[f] = glm::normalize(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
-    for (int k = 0; k < 3; ++k) faces_of[t[k]].push_back(std::uint32_t(f));
+    for (int k = 0; k < 3; ++k) faces_of[position_id[t[k]]].push_back(std::uint32_t(f));
   }
-  auto openingAngle = [&](std::size_t f, std::uint32_t vertex) {
+  auto openingAngle = [&](std::size_t f, std::uint32_t position) {
     const glm::uvec3 t = mesh.triangles[f];
-    const int k = t.x == vertex ? 0 : (t.y == vertex ? 1 : 2);
+    const int k = position_id[t.x] == position ? 0 : (position_id[t.y] == position ? 1 : 2);
     const glm::vec3 p = mesh.positions[t[k]];
     const glm::vec3 e1 = glm::normalize(mesh.positions[t[(k + 1) % 3]] - p);
     const glm::vec3 e2 = glm::normalize(mesh.positions[t[(k + 2) % 3]] - p);
@@ -332,14 +349,15 @@ void computeVertexNormals(TriangleMesh& mesh, float crease_deg) {
   // set of faces was averaged), so a smooth mesh keeps its vertex count.
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uvs;
+  const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
   std::map<std::pair<std::uint32_t, std::array<float, 3>>, std::uint32_t> vertex_of;
   std::vector<glm::uvec3> triangles(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = mesh.triangles[f][k];
       glm::vec3 sum(0.0f);
-      for (const std::uint32_t g : faces_of[v])
-        if (glm::dot(face_normal[g], face_normal[f]) >= cos_crease) sum += openingAngle(g, v) * face_normal[g];
+      for (const std::uint32_t g : faces_of[position_id[v]])
+        if (glm::dot(face_normal[g], face_normal[f]) >= cos_crease) sum += openingAngle(g, position_id[v]) * face_normal[g];
       const float len = glm::length(sum);
       const glm::vec3 n = len > 0 ? sum / len : face_normal[f];
       const auto key = std::make_pair(v, std::array<float, 3>{n.x, n.y, n.z});
@@ -347,7 +365,7 @@ void computeVertexNormals(TriangleMesh& mesh, float crease_deg) {
       if (inserted) {
         positions.push_back(mesh.positions[v]);
         normals.push_back(n);
-        if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[v]);
+        if (has_uvs) uvs.push_back(mesh.uvs[v]);
       }
       triangles[f][k] = it->second;
     }

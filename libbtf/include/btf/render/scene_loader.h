@@ -34,8 +34,8 @@
 // filter bilinear | nearest). Each takes "sampler": material | cosine | uniform | tabulated |
 // dp-cdf | quadtree (a BTF varies over the surface, so only its own sampler and the warps apply).
 // Shapes: meshes from OBJ (with .mtl: "material": "mtl" gives every part a Lambert of its Kd and an
-// emission of its Ke; "part_materials" overrides parts by their .mtl name or group name,
-// "skip_parts" leaves parts out) and PLY
+// emission of its Ke; "part_materials" overrides parts and "skip_parts" leaves them out, by their
+// .mtl material name first, else their group name) and PLY
 // (also .ply.gz); "shading": smooth (default) | flat, "crease_deg" (default 60) for smooth
 // normals where the file has none; "emission" (radiance) makes a shape an area light,
 // "two_sided" lets it emit from both sides. Lights: point (position, intensity in W/sr) and one
