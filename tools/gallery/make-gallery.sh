@@ -44,3 +44,6 @@ cp "$work/cornell-ppm.png" "$here/cornell-ppm.png"
 cp "$work/bunny.png" "$here/bunny.png"
 "$bin/btf" render "$here/../scenes/dragon.json" -o "$work/dragon.exr" --spp 64 >/dev/null
 cp "$work/dragon.png" "$here/dragon.png"
+# The samplers at equal time on the Cornell box with RGL materials.
+"$bin/btf" bench render -o "$work/bench-render" >/dev/null
+cp "$work/bench-render/samplers.png" "$here/render-samplers.png"

@@ -17,15 +17,10 @@
 #include "btf/core/rng.h"
 #include "btf/render/integrator.h"
 #include "render_tiles.h"
+#include "shading_rules.h"
 
 namespace btf::render {
 namespace {
-
-float powerHeuristic(float pdf_a, float pdf_b) {
-  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
-  if (std::isinf(a)) return 1.0f;
-  return a + b > 0.0f ? a / (a + b) : 0.0f;
-}
 
 struct FirstHit {
   Rgb albedo{0.0f};
@@ -36,12 +31,6 @@ struct FirstHit {
 struct RayCounts {
   std::uint64_t extension = 0, shadow = 0;
 };
-
-// Veach's rule for shading normals: a direction counts only on the side of both normals where
-// the view is (reflection only; our materials do not transmit).
-bool sameSideOfBothNormals(const SurfaceHit& hit, const glm::vec3& w) {
-  return glm::dot(w, hit.ng) > 0.0f && glm::dot(w, hit.shading.n) > 0.0f;
-}
 
 Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& settings, FirstHit* first, RayCounts& counts,
               std::vector<TracedRay>* log) {

@@ -14,6 +14,7 @@
 #include "btf/sampling/cdf1d.h"
 #include "btf/sampling/warp.h"
 #include "render_tiles.h"
+#include "shading_rules.h"
 
 namespace btf::render {
 namespace {
@@ -84,10 +85,6 @@ std::optional<Emitted> emitPhoton(const Scene& scene, const std::vector<float>& 
     }
   }
   return std::nullopt;
-}
-
-bool sameSideOfBothNormals(const SurfaceHit& hit, const glm::vec3& w) {
-  return glm::dot(w, hit.ng) > 0.0f && glm::dot(w, hit.shading.n) > 0.0f;
 }
 
 struct ChunkPhotons {
@@ -273,32 +270,21 @@ class PhotonMapper final : public Integrator {
  private:
   Rgb visualize(const Scene& scene, const PhotonMap& map, const Ray& ray, const PhotonSettings& lookup, float radius,
                 std::vector<PhotonKdTree::Neighbor>& scratch) const {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, hit)) return scene.environment(ray.direction);
-    Rgb l = scene.emitted(hit);
-    const SceneMaterial* material = scene.materialOf(hit);
-    if (!material) return l;
-    const glm::vec3 wo = hit.shading.toLocal(-ray.direction);
-    if (!(wo.z > 0.0f)) return l;
-    return l + map.estimate(hit, *material->material, wo, lookup, radius, scratch);
+    const CameraHit c = findCameraHit(scene, ray);
+    if (!c.material) return c.radiance;
+    return c.radiance + map.estimate(c.hit, *c.material->material, c.wo, lookup, radius, scratch);
   }
 
   // Emission, next-event estimation and one material sample at the first hit, weighted by MIS as
   // in the path tracer; the photon map answers for everything after the second hit.
   Rgb gather(const Scene& scene, const PhotonMap& map, const Ray& ray, Rng& rng, const PhotonSettings& lookup,
              float radius, std::vector<PhotonKdTree::Neighbor>& scratch, std::uint64_t& ext, std::uint64_t& sh) const {
-    auto power = [](float a, float b) {
-      if (std::isinf(a)) return 1.0f;
-      return a * a + b * b > 0.0f ? a * a / (a * a + b * b) : 0.0f;
-    };
-    SurfaceHit hit;
-    if (!scene.intersect(ray, hit)) return scene.environment(ray.direction);
-    Rgb l = scene.emitted(hit);
-    const SceneMaterial* material = scene.materialOf(hit);
-    if (!material) return l;
-    const glm::vec3 wo = hit.shading.toLocal(-ray.direction);
-    if (!(wo.z > 0.0f)) return l;
-    const Material& brdf = *material->sampled;
+    const CameraHit c = findCameraHit(scene, ray);
+    if (!c.material) return c.radiance;
+    const SurfaceHit& hit = c.hit;
+    const glm::vec3& wo = c.wo;
+    Rgb l = c.radiance;
+    const Material& brdf = *c.material->sampled;
     const float u_light = rng.uniform();
     const glm::vec2 u_light2 = rng.uniform2D();
     if (const auto light = scene.sampleLight(hit.p, u_light, u_light2); light && light->pdf > 0.0f && sameSideOfBothNormals(hit, light->wi)) {
@@ -309,7 +295,7 @@ class PhotonMapper final : public Integrator {
         const Ray shadow = std::isinf(light->distance) ? scene.spawnRay(hit, light->wi)
                                                        : scene.spawnRayTo(hit, hit.p + light->wi * light->distance);
         if (!scene.occluded(shadow)) {
-          const float w = light->delta ? 1.0f : power(light->pdf, brdf.pdf(wi, wo, hit.uv));
+          const float w = light->delta ? 1.0f : powerHeuristic(light->pdf, brdf.pdf(wi, wo, hit.uv));
           l += f * light->radiance * (wi.z * w / light->pdf);
         }
       }
@@ -322,11 +308,11 @@ class PhotonMapper final : public Integrator {
     const Ray bounce = scene.spawnRay(hit, next);
     SurfaceHit second;
     if (!scene.intersect(bounce, second)) {
-      if (scene.hasEnvironment()) l += s->weight * scene.environment(next) * power(s->pdf, scene.environmentPdf(next));
+      if (scene.hasEnvironment()) l += s->weight * scene.environment(next) * powerHeuristic(s->pdf, scene.environmentPdf(next));
       return l;
     }
     const Rgb le = scene.emitted(second);
-    if (!le.isBlack()) l += s->weight * le * power(s->pdf, scene.areaLightPdf(hit.p, second, next));
+    if (!le.isBlack()) l += s->weight * le * powerHeuristic(s->pdf, scene.areaLightPdf(hit.p, second, next));
     const SceneMaterial* m2 = scene.materialOf(second);
     if (!m2) return l;
     const glm::vec3 wo2 = second.shading.toLocal(-next);

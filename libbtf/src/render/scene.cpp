@@ -57,13 +57,7 @@ Scene::Scene(SceneDescription description)
       throw fail(mesh.name + ": material index " + std::to_string(shape.material) + " out of range");
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) mesh.normals.clear();
     if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) mesh.uvs.clear();
-    const MeshCleanup dropped = removeInvalidTriangles(mesh);
-    const std::size_t total = dropped.degenerate + dropped.non_finite + dropped.out_of_range;
-    if (total > 0)
-      log(LogLevel::Warning, mesh.name + ": dropped " + std::to_string(total) + " triangles (" +
-                                 std::to_string(dropped.degenerate) + " of zero area, " +
-                                 std::to_string(dropped.non_finite) + " with NaN or infinite vertices, " +
-                                 std::to_string(dropped.out_of_range) + " with vertex indices out of range)");
+    removeInvalidTrianglesWithWarning(mesh);
     if (mesh.triangles.empty()) throw fail(mesh.name + ": the mesh has no valid triangle");
     meshes.push_back(&mesh);
   }

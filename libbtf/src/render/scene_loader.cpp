@@ -401,13 +401,7 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
       else if (mesh.normals.empty() && type == "mesh") {
         // Normals of degenerate faces are undefined, so they go now; the Scene, which warns about
         // what it drops, would find nothing left to count.
-        const MeshCleanup dropped = removeInvalidTriangles(mesh);
-        const std::size_t total = dropped.degenerate + dropped.non_finite + dropped.out_of_range;
-        if (total > 0)
-          log(LogLevel::Warning, mesh.name + ": dropped " + std::to_string(total) + " triangles (" +
-                                     std::to_string(dropped.degenerate) + " of zero area, " +
-                                     std::to_string(dropped.non_finite) + " with NaN or infinite vertices, " +
-                                     std::to_string(dropped.out_of_range) + " with vertex indices out of range)");
+        removeInvalidTrianglesWithWarning(mesh);
         if (!mesh.triangles.empty()) computeVertexNormals(mesh, crease);
       }
       transformMesh(mesh, transform);

@@ -19,6 +19,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/math.h"
+#include "btf/core/progress.h"
 
 namespace btf::render {
 namespace {
@@ -307,6 +308,17 @@ MeshCleanup removeInvalidTriangles(TriangleMesh& mesh) {
   }
   mesh.triangles = std::move(kept);
   return counts;
+}
+
+MeshCleanup removeInvalidTrianglesWithWarning(TriangleMesh& mesh) {
+  const MeshCleanup dropped = removeInvalidTriangles(mesh);
+  const std::size_t total = dropped.degenerate + dropped.non_finite + dropped.out_of_range;
+  if (total > 0)
+    log(LogLevel::Warning, mesh.name + ": dropped " + std::to_string(total) + " triangles (" +
+                               std::to_string(dropped.degenerate) + " of zero area, " +
+                               std::to_string(dropped.non_finite) + " with NaN or infinite vertices, " +
+                               std::to_string(dropped.out_of_range) + " with vertex indices out of range)");
+  return dropped;
 }
 
 void computeVertexNormals(TriangleMesh& mesh, float crease_deg) {

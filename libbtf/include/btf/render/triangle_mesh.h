@@ -41,6 +41,8 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path);
 // Drops degenerate, non-finite and out-of-range triangles (and then unused vertices' effect on
 // nothing: vertices stay), returning the counts.
 MeshCleanup removeInvalidTriangles(TriangleMesh& mesh);
+// The same, and one warning through btf::log that counts what was dropped (if anything).
+MeshCleanup removeInvalidTrianglesWithWarning(TriangleMesh& mesh);
 
 // Smooth vertex normals: each corner's normal is the average of the normals of the faces around its
 // vertex, each weighted by the face's opening angle at the vertex (Thürmer and Wüthrich 1998; the
