@@ -112,20 +112,23 @@ void runBenchRender(const Args& a) {
   const double render_1 = renderWith(scene, scaling_spp, 1).stats.seconds;
   const double render_2 = renderWith(scene, scaling_spp, 2).stats.seconds;
   const std::uint64_t photon_count = a.quick ? 50'000 : 400'000;
+  struct PhotonTimes {
+    double trace, build;
+    std::size_t stored;
+  };
   auto photonSeconds = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-    const auto t0 = std::chrono::steady_clock::now();
     const render::PhotonMap map(scene, photon_count, render::RenderSettings{});
-    return std::make_pair(seconds(t0), map.size());
+    return PhotonTimes{map.traceSeconds(), map.buildSeconds(), map.size()};
   };
-  const auto [photon_1, stored] = photonSeconds(1);
-  const auto [photon_2, stored_2] = photonSeconds(2);
-  (void)stored_2;
+  const PhotonTimes p1 = photonSeconds(1), p2 = photonSeconds(2);
   say("\n2. Scaling from 1 to 2 threads (this machine: %u hardware threads)\n", std::thread::hardware_concurrency());
   say("   render, %d spp          %6.2f s -> %6.2f s: %.2fx\n", scaling_spp, render_1, render_2, render_1 / render_2);
   say("   photon tracing, %llu    %6.2f s -> %6.2f s: %.2fx (%.3f M photons/s emitted on 2 threads, %zu stored)\n",
-      static_cast<unsigned long long>(photon_count), photon_1, photon_2, photon_1 / photon_2,
-      double(photon_count) / photon_2 * 1e-6, stored);
+      static_cast<unsigned long long>(photon_count), p1.trace, p2.trace, p1.trace / p2.trace,
+      double(photon_count) / p2.trace * 1e-6, p1.stored);
+  say("   photon map, traced + built %6.2f s -> %6.2f s: %.2fx (collecting and the kd-tree: %.2f s -> %.2f s)\n",
+      p1.trace + p1.build, p2.trace + p2.build, (p1.trace + p1.build) / (p2.trace + p2.build), p1.build, p2.build);
 
   // 3. Photon search structures on identical photons and queries.
   const std::size_t n = a.quick ? 100'000 : a.photons, q = a.quick ? 20'000 : a.queries;

@@ -137,6 +137,7 @@ PhotonMap::PhotonMap(const Scene& scene, std::uint64_t count, const RenderSettin
   light_cdf.resize(weights.size() + 1);
   buildCdf1D(weights, light_cdf);
 
+  const auto start = std::chrono::steady_clock::now();
   const std::uint64_t chunks = (count + kChunk - 1) / kChunk;
   std::vector<ChunkPhotons> collected(chunks);
   Progress progress("photon tracing", chunks);
@@ -150,6 +151,8 @@ PhotonMap::PhotonMap(const Scene& scene, std::uint64_t count, const RenderSettin
     }
     progress.advance();
   });
+  const auto traced = std::chrono::steady_clock::now();
+  trace_seconds_ = std::chrono::duration<double>(traced - start).count();
   std::vector<glm::vec3> positions;
   std::vector<StoredPhoton> photons;
   for (ChunkPhotons& c : collected) {
@@ -163,6 +166,7 @@ PhotonMap::PhotonMap(const Scene& scene, std::uint64_t count, const RenderSettin
   photons_.resize(photons.size());
   const auto order = tree_.order();
   for (std::size_t i = 0; i < order.size(); ++i) photons_[i] = photons[order[i]];
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - traced).count();
 }
 
 Rgb PhotonMap::estimate(const SurfaceHit& hit, const Material& material, const glm::vec3& wo, const PhotonSettings& settings,

@@ -56,6 +56,10 @@ class PhotonMap {
   std::uint64_t emitted() const { return emitted_; }
   const PhotonKdTree& tree() const { return tree_; }
   std::span<const StoredPhoton> photons() const { return photons_; }  // in tree order
+  // Wall-clock seconds of the two phases: tracing the photons (parallel), then collecting them
+  // and building the search tree.
+  double traceSeconds() const { return trace_seconds_; }
+  double buildSeconds() const { return build_seconds_; }
 
   // Radiance leaving `hit` towards wo (local, shading frame) from the photons around it.
   Rgb estimate(const SurfaceHit& hit, const Material& material, const glm::vec3& wo, const PhotonSettings& settings,
@@ -65,6 +69,7 @@ class PhotonMap {
   PhotonKdTree tree_;
   std::vector<StoredPhoton> photons_;
   std::uint64_t emitted_ = 0;
+  double trace_seconds_ = 0, build_seconds_ = 0;
 };
 
 std::unique_ptr<Integrator> makePhotonMapper(PhotonMode mode, const PhotonSettings& settings);
