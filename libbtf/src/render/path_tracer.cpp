@@ -110,65 +110,65 @@ Rgb tracePath(const Scene& scene, Ray ray, Rng& rng, const RenderSettings& setti
 
 // One image; with a ray log the tiles run in order on this thread, so the log is the render's rays.
 RenderResult renderImage(const Scene& scene, const RenderSettings& settings, std::vector<TracedRay>* log) {
-    validateSettings(settings);
-    const auto start = std::chrono::steady_clock::now();
-    const CameraSettings& cam = scene.camera().settings();
-    RenderResult result;
-    result.color = Image(cam.width, cam.height, 3);
-    if (settings.aovs) {
-      result.albedo = Image(cam.width, cam.height, 3);
-      result.normal = Image(cam.width, cam.height, 3);
-      result.depth = Image(cam.width, cam.height, 1);
-      result.samples = Image(cam.width, cam.height, 1);
-    }
-    std::atomic<std::uint64_t> extension{0}, shadow{0};
-    auto renderTile = [&](const TileRange& tile) {
-      RayCounts counts;
-      for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) {
-          const std::uint64_t pixel = std::uint64_t(y) * std::uint64_t(cam.width) + std::uint64_t(x);
-          Rgb sum(0.0f), albedo(0.0f);
-          glm::vec3 normal(0.0f);
-          float depth = 0;
-          for (int s = 0; s < settings.spp; ++s) {
-            Rng rng(settings.seed, pixel);
-            rng.seek(std::uint64_t(s) << 32);  // disjoint counter ranges per sample
-            const glm::vec2 jitter = rng.uniform2D();
-            const Ray ray = scene.camera().generateRay(glm::vec2(float(x), float(y)) + jitter);
-            FirstHit first;
-            const Rgb l = tracePath(scene, ray, rng, settings, settings.aovs ? &first : nullptr, counts, log);
-            // A non-finite sample (a material returning NaN) would poison the pixel; drop it.
-            if (l.isFinite()) sum += l;
-            albedo += first.albedo;
-            normal += first.normal;
-            depth += first.depth;
-          }
-          const float inv = 1.0f / float(settings.spp);
-          for (int c = 0; c < 3; ++c) result.color.at(x, y, c) = sum[c] * inv;
-          if (settings.aovs) {
-            for (int c = 0; c < 3; ++c) {
-              result.albedo.at(x, y, c) = albedo[c] * inv;
-              result.normal.at(x, y, c) = normal[c] * inv;
-            }
-            result.depth.at(x, y, 0) = depth * inv;
-            result.samples.at(x, y, 0) = float(settings.spp);
-          }
+  validateSettings(settings);
+  const auto start = std::chrono::steady_clock::now();
+  const CameraSettings& cam = scene.camera().settings();
+  RenderResult result;
+  result.color = Image(cam.width, cam.height, 3);
+  if (settings.aovs) {
+    result.albedo = Image(cam.width, cam.height, 3);
+    result.normal = Image(cam.width, cam.height, 3);
+    result.depth = Image(cam.width, cam.height, 1);
+    result.samples = Image(cam.width, cam.height, 1);
+  }
+  std::atomic<std::uint64_t> extension{0}, shadow{0};
+  auto renderTile = [&](const TileRange& tile) {
+    RayCounts counts;
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        const std::uint64_t pixel = std::uint64_t(y) * std::uint64_t(cam.width) + std::uint64_t(x);
+        Rgb sum(0.0f), albedo(0.0f);
+        glm::vec3 normal(0.0f);
+        float depth = 0;
+        for (int s = 0; s < settings.spp; ++s) {
+          Rng rng(settings.seed, pixel);
+          rng.seek(std::uint64_t(s) << 32);  // disjoint counter ranges per sample
+          const glm::vec2 jitter = rng.uniform2D();
+          const Ray ray = scene.camera().generateRay(glm::vec2(float(x), float(y)) + jitter);
+          FirstHit first;
+          const Rgb l = tracePath(scene, ray, rng, settings, settings.aovs ? &first : nullptr, counts, log);
+          // A non-finite sample (a material returning NaN) would poison the pixel; drop it.
+          if (l.isFinite()) sum += l;
+          albedo += first.albedo;
+          normal += first.normal;
+          depth += first.depth;
         }
-      extension += counts.extension;
-      shadow += counts.shadow;
-    };
-    if (log) {
-      for (int y0 = 0; y0 < cam.height; y0 += settings.tile_size)
-        for (int x0 = 0; x0 < cam.width; x0 += settings.tile_size)
-          renderTile(TileRange{x0, y0, std::min(cam.width, x0 + settings.tile_size), std::min(cam.height, y0 + settings.tile_size)});
-    } else {
-      forEachTile(cam.width, cam.height, settings.tile_size, "render (path tracing)", renderTile);
-    }
-    result.stats.camera_rays = std::uint64_t(cam.width) * std::uint64_t(cam.height) * std::uint64_t(settings.spp);
-    result.stats.extension_rays = extension;
-    result.stats.shadow_rays = shadow;
-    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
+        const float inv = 1.0f / float(settings.spp);
+        for (int c = 0; c < 3; ++c) result.color.at(x, y, c) = sum[c] * inv;
+        if (settings.aovs) {
+          for (int c = 0; c < 3; ++c) {
+            result.albedo.at(x, y, c) = albedo[c] * inv;
+            result.normal.at(x, y, c) = normal[c] * inv;
+          }
+          result.depth.at(x, y, 0) = depth * inv;
+          result.samples.at(x, y, 0) = float(settings.spp);
+        }
+      }
+    extension += counts.extension;
+    shadow += counts.shadow;
+  };
+  if (log) {
+    for (int y0 = 0; y0 < cam.height; y0 += settings.tile_size)
+      for (int x0 = 0; x0 < cam.width; x0 += settings.tile_size)
+        renderTile(TileRange{x0, y0, std::min(cam.width, x0 + settings.tile_size), std::min(cam.height, y0 + settings.tile_size)});
+  } else {
+    forEachTile(cam.width, cam.height, settings.tile_size, "render (path tracing)", renderTile);
+  }
+  result.stats.camera_rays = std::uint64_t(cam.width) * std::uint64_t(cam.height) * std::uint64_t(settings.spp);
+  result.stats.extension_rays = extension;
+  result.stats.shadow_rays = shadow;
+  result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
 }
 
 class PathTracer final : public Integrator {
