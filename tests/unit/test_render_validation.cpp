@@ -98,13 +98,10 @@ std::vector<FurnaceCase> furnaceMaterials() {
                                                                           {Rgb(0.2f), {-0.9f, -0.9f, 1}, 80.0f}})});
   cases.push_back({"btf_texel", std::make_shared<BtfMaterial>(std::make_shared<BtfData>(makeGgxBtf(1, 1, false)))});
   const auto shared = sharedDataDir();
-  for (const char* rgl : {"paper_white_rgb", "vch_golden_yellow_rgb"}) {
-    const auto file = shared / "rgl_bsdf" / (std::string(rgl) + ".bsdf");
-    if (std::filesystem::exists(file)) cases.push_back({rgl, std::make_shared<RglBrdf>(file)});
-  }
-  if (std::filesystem::exists(shared / "fits"))
-    cases.push_back({"merl_fit_gold_metallic_paint_sgd",
-                     std::shared_ptr<const Material>(makeMerlFitMaterial(MerlFits::load(shared / "fits"), "gold-metallic-paint", FitModel::Sgd))});
+  for (const char* rgl : {"paper_white_rgb", "vch_golden_yellow_rgb"})
+    cases.push_back({rgl, std::make_shared<RglBrdf>(shared / "rgl_bsdf" / (std::string(rgl) + ".bsdf"))});
+  cases.push_back({"merl_fit_gold_metallic_paint_sgd",
+                   std::shared_ptr<const Material>(makeMerlFitMaterial(MerlFits::load(shared / "fits"), "gold-metallic-paint", FitModel::Sgd))});
   return cases;
 }
 
