@@ -44,8 +44,12 @@ inline const std::vector<NamedMaterial>& samplerTestMaterials() {
 // materials when phi_o = 0, where its quadrature converges at once.
 inline constexpr int kSamplerChi2ThetaBins = 40;
 inline constexpr int kSamplerChi2PhiBins = 40;
-inline SamplerOptions coarseSamplerOptions() {
+// Incident unless a test asks for Half (whose coarse grid is 32 x 32 cells of the half-vector
+// square); Auto would build probes of both for every sampler.
+inline SamplerOptions coarseSamplerOptions(Parameterization p = Parameterization::Incident) {
   SamplerOptions o;
+  o.parameterization = p;
+  o.half_vector_bins = 32;
   o.theta_o_bins = 8;
   o.phi_o_bins = 6;
   o.cos_theta_bins = 20;

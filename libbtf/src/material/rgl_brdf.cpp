@@ -20,7 +20,14 @@ float phiToUnit(float phi) {
 }
 
 // d(solid angle of m) / d(u_m) = sin(theta_m) dtheta/du_x dphi/du_y = sin(theta_m) (pi u_x) (2 pi).
-float unitToSolidAngleJacobian(float u_x, float sin_theta_m) { return 2.0f * kPi * kPi * u_x * sin_theta_m; }
+// It vanishes like u_x^3 at the pole, where the warps keep a finite density over the square, so
+// the solid-angle density grows without bound there; like the reference loader, the Jacobian is
+// held at 1e-6 or more. That makes the pdf finite (a draw at u_x = 0, the mirror direction, is a
+// valid draw) and changes the density only within ~1e-5 rad of the pole, where it understates it:
+// the estimator's bias is at most 1e-6 times the u_x-width of that cap (~3e-3) times f cos.
+float unitToSolidAngleJacobian(float u_x, float sin_theta_m) {
+  return std::max(2.0f * kPi * kPi * u_x * sin_theta_m, 1e-6f);
+}
 
 std::vector<float> floatsOf(const TensorField& field) { return field.toFloats(); }
 
@@ -98,48 +105,61 @@ Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, floa
   return f;
 }
 
+RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, bool with_pdf) const {
+  InverseMap r;
+  const glm::vec3 m = glm::normalize(wi + wo);
+  r.theta_o = sphericalTheta(wo);
+  const float phi_o = std::atan2(wo.y, wo.x);
+  r.u_o = glm::vec2(thetaToUnit(r.theta_o), phiToUnit(phi_o));
+  // At the pole of m (u_m.x = 0, the mirror direction) the files' VNDF density over the square is
+  // 0, so the mirror direction that a draw with u.x = 0 lands on would get pdf 0 and be dropped.
+  // The warps are evaluated at u_m.x >= 1e-4 instead (theta_m >= 1.6e-8 rad, where they hold
+  // ~1e-8 of their mass): the pdf stays positive and continuous up to the pole.
+  constexpr float kPoleGuard = 1e-4f;
+  r.u_m = glm::vec2(std::max(thetaToUnit(sphericalTheta(m)), kPoleGuard), phiToUnit(std::atan2(m.y, m.x) - phi_o));
+  const float params[1] = {r.theta_o};
+  if (!with_pdf) {
+    r.s = vndf_.invert(r.u_m, params).p;
+    return r;
+  }
+  const auto [s, vndf_pdf] = vndf_.invert(r.u_m, params);
+  r.s = s;
+  const float jacobian = unitToSolidAngleJacobian(r.u_m.x, std::hypot(m.x, m.y)) * 4.0f * glm::dot(wo, m);
+  const float pdf = jacobian > 0.0f ? vndf_pdf * luminance_.eval(s, params) / jacobian : 0.0f;
+  r.pdf = std::isfinite(pdf) ? pdf : 0.0f;
+  return r;
+}
+
 Rgb RglBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (wi.z <= 0.0f || wo.z <= 0.0f) return {};
-  const glm::vec3 m = glm::normalize(wi + wo);
-  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
-  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
-  const glm::vec2 u_m(thetaToUnit(sphericalTheta(m)), phiToUnit(std::atan2(m.y, m.x) - phi_o));
-  const float params[1] = {theta_o};
-  const glm::vec2 s = vndf_.invert(u_m, params).p;
+  const InverseMap r = mapBack(wi, wo, false);
   // The tables hold f cos(theta_i) (what a renderer multiplies by anyway); f itself divides it out.
-  return reflectanceTimesCos(s, u_m, u_o, theta_o) / wi.z;
+  return reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / wi.z;
 }
 
 std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
   if (wo.z <= 0.0f) return std::nullopt;
   const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
   const float params[1] = {theta_o};
-  const auto [s, luminance_pdf] = luminance_.sample(u, params);
-  const auto [u_m, vndf_pdf] = vndf_.sample(s, params);
-  const float theta_m = unitToTheta(u_m.x);
-  const glm::vec3 m = sphericalDirection(theta_m, u_m.y * kTwoPi - kPi + phi_o);
+  const glm::vec2 s = luminance_.sample(u, params).p;
+  const glm::vec2 u_m = vndf_.sample(s, params).p;
+  const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + phi_o);
   const float wo_dot_m = glm::dot(wo, m);
   if (wo_dot_m <= 0.0f) return std::nullopt;  // back-facing m: interpolation leaked past the horizon
   const glm::vec3 wi = 2.0f * wo_dot_m * m - wo;
   if (wi.z <= 0.0f) return std::nullopt;
-  const float jacobian = unitToSolidAngleJacobian(u_m.x, std::sin(theta_m)) * 4.0f * wo_dot_m;
-  const float pdf = vndf_pdf * luminance_pdf / jacobian;
-  if (!(pdf > 0.0f) || !std::isfinite(pdf)) return std::nullopt;  // the edge of the support
-  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
-  return BsdfSample{wi, reflectanceTimesCos(s, u_m, u_o, theta_o) / pdf, pdf};
+  // The pdf and the weight come from wi through the inverse maps, as pdf() and eval() compute
+  // them, so that sample().pdf == pdf(wi, wo) exactly. The forward path's own density differs from
+  // it by float round-off, except near the pole, where m's few significant bits after the
+  // reflection made the two disagree by up to 1e7x (|u| < 1e-5 at grazing wo).
+  const InverseMap r = mapBack(wi, wo, true);
+  if (!(r.pdf > 0.0f)) return std::nullopt;  // the edge of the support
+  return BsdfSample{wi, reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / r.pdf, r.pdf};
 }
 
 float RglBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (wi.z <= 0.0f || wo.z <= 0.0f) return 0.0f;
-  const glm::vec3 m = glm::normalize(wi + wo);
-  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
-  const glm::vec2 u_m(thetaToUnit(sphericalTheta(m)), phiToUnit(std::atan2(m.y, m.x) - phi_o));
-  const float params[1] = {theta_o};
-  const auto [s, vndf_pdf] = vndf_.invert(u_m, params);
-  const float jacobian = unitToSolidAngleJacobian(u_m.x, std::hypot(m.x, m.y)) * 4.0f * glm::dot(wo, m);
-  if (!(jacobian > 0.0f)) return 0.0f;  // m exactly at the pole, where u_m has no extent
-  const float pdf = vndf_pdf * luminance_.eval(s, params) / jacobian;
-  return std::isfinite(pdf) ? pdf : 0.0f;
+  return mapBack(wi, wo, true).pdf;
 }
 
 std::string RglBrdf::name() const { return "rgl(" + stem_ + ")"; }

@@ -13,6 +13,7 @@
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
+#include "btf/core/rng.h"
 #include "btf/sampling/dp_cdf_sampler.h"
 #include "btf/sampling/quadtree_sampler.h"
 #include "btf/sampling/tabulated_sampler.h"
@@ -37,6 +38,7 @@ void validate(const SamplerOptions& o) {
           "depths must satisfy 0 <= min_depth <= max_depth <= 16");
   require(o.quadtree_probes >= 1 && o.quadtree_probes <= 64, "quadtree_probes must be in [1, 64]");
   require(o.max_tries >= 1 && o.max_tries <= 1 << 20, "max_tries must be in [1, 2^20]");
+  require(o.half_vector_bins >= 2 && o.half_vector_bins <= 65536, "half_vector_bins must be in [2, 65536]");
 }
 
 float thetaOCentre(int i, int n) { return (float(i) + 0.5f) / float(n) * kHalfPi; }
@@ -52,6 +54,21 @@ std::string_view toString(SamplerKind kind) {
   return "unknown";
 }
 
+std::string_view toString(Parameterization p) {
+  switch (p) {
+    case Parameterization::Auto: return "auto";
+    case Parameterization::Incident: return "incident";
+    case Parameterization::Half: return "half";
+  }
+  return "unknown";
+}
+
+std::optional<Parameterization> parseParameterization(std::string_view name) {
+  for (Parameterization p : {Parameterization::Auto, Parameterization::Incident, Parameterization::Half})
+    if (toString(p) == name) return p;
+  return std::nullopt;
+}
+
 std::optional<SamplerKind> parseSamplerKind(std::string_view name) {
   for (SamplerKind k : {SamplerKind::Tabulated, SamplerKind::DpCdf, SamplerKind::Quadtree})
     if (toString(k) == name) return k;
@@ -62,6 +79,12 @@ BinnedSampler::BinnedSampler(std::shared_ptr<const Material> material, const Sam
     : material_(std::move(material)), options_(options) {
   if (!material_) throw Error("sampler: no material given");
   validate(options_);
+  if (options_.parameterization == Parameterization::Auto) {
+    const ParameterizationChoice choice = chooseParameterization(material_, options_);
+    options_.parameterization = choice.chosen;
+    auto_variance_incident_ = choice.incident_variance;
+    auto_variance_half_ = choice.half_variance;
+  }
   anisotropic_ = material_->isAnisotropic();
   theta_o_bins_ = options_.theta_o_bins;
   phi_o_bins_ = anisotropic_ ? options_.phi_o_bins : 1;
@@ -84,6 +107,12 @@ BinnedSampler::BinnedSampler(std::shared_ptr<const Material> material, const Sam
   cos_theta_o_edges_.push_back(-std::numeric_limits<float>::infinity());
 }
 
+glm::vec3 BinnedSampler::binLowerEdgeDirection(std::size_t bin) const {
+  const int theta_bin = int(bin / phi_o_bins_), phi_bin = int(bin % phi_o_bins_);
+  const float phi = anisotropic_ ? (float(phi_bin) + 0.5f) / float(phi_o_bins_) * kTwoPi : 0.0f;
+  return sphericalDirection(float(theta_bin) / float(theta_o_bins_) * kHalfPi, phi);
+}
+
 glm::vec3 BinnedSampler::binDirection(std::size_t bin) const {
   const int theta_bin = int(bin / phi_o_bins_), phi_bin = int(bin % phi_o_bins_);
   const float phi = anisotropic_ ? (float(phi_bin) + 0.5f) / float(phi_o_bins_) * kTwoPi : 0.0f;
@@ -92,16 +121,18 @@ glm::vec3 BinnedSampler::binDirection(std::size_t bin) const {
 
 float BinnedSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
   if (!(wi.z > 0.0f)) return 0.0f;
-  const glm::vec2 st = directionToSquare(q.toBinFrame(wi));
-  if (!(st.x < 1.0f)) return 0.0f;  // wi.z == 1 exactly is outside [0,1): a null set
-  return pdfInBin(q.bin, st) * kInv2Pi;
+  const std::optional<SquarePoint> p = incomingToSquare(q.toBinFrame(wi), q.wo);
+  if (!p) return 0.0f;
+  return pdfInBin(q.bin, p->st) * p->to_solid_angle;
 }
 
 std::optional<BinnedSampler::DirectionSample> BinnedSampler::sampleQuery(const BinQuery& q, glm::vec2 u,
                                                                          int& tries) const {
   const std::optional<glm::vec2> st = sampleInBin(q.bin, u, tries);
   if (!st) return std::nullopt;
-  const glm::vec3 wi = glm::normalize(q.fromBinFrame(squareToDirection(*st)));
+  const std::optional<glm::vec3> wi_bin = squareToIncoming(*st, q.wo);
+  if (!wi_bin) return std::nullopt;  // a half vector whose reflection is below the horizon
+  const glm::vec3 wi = glm::normalize(q.fromBinFrame(*wi_bin));
   const float p = pdfQuery(q, wi);
   if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
   return DirectionSample{wi, p};
@@ -155,8 +186,36 @@ std::optional<BsdfSample> BinnedSampler::sampleCountingTries(const glm::vec3& wo
 std::string BinnedSampler::name() const { return std::string(toString(kind())) + "(" + material_->name() + ")"; }
 
 float BinnedSampler::target(std::size_t bin, glm::vec2 st) const {
-  const glm::vec3 wi = squareToDirection(st);
-  const float v = material_->eval(wi, binDirection(bin)).luminance() * wi.z;
+  glm::vec3 wo = binDirection(bin);
+  glm::vec3 wi;
+  float jacobian = 1.0f;
+  if (options_.parameterization == Parameterization::Half) {
+    // Directions whose reflection is below the horizon for the bin's central wo may be above it
+    // for other wo of the bin, and cells on the horizon are partly above it: without mass there,
+    // a query would draw such directions only by the defensive share, with weights hundreds of
+    // times the mean (seen at theta_o = 0 and 80 degrees on an RGL film). So a point below the
+    // horizon takes f at the bin's lower theta_o edge (which reflects more half vectors above
+    // it), and a point still just below it there takes f at its mirror image above the horizon
+    // (within kHorizonBand of wi.z, about one cell): cells on the edge keep their neighbours' mass.
+    constexpr float kHorizonBand = 0.02f;
+    const glm::vec3 h = squareToHalfVector(st);
+    float d = glm::dot(wo, h);
+    wi = (2.0f * d) * h - wo;
+    if (!(wi.z > 0.0f)) {
+      wo = binLowerEdgeDirection(bin);
+      d = glm::dot(wo, h);
+      wi = (2.0f * d) * h - wo;
+    }
+    if (!(d > 0.0f) || !(wi.z > -kHorizonBand)) return 0.0f;
+    wi.z = std::max(std::abs(wi.z), 1e-6f);
+    wi = glm::normalize(wi);
+    const float r = std::max(std::abs(2.0f * st.x - 1.0f), std::abs(2.0f * st.y - 1.0f));
+    jacobian = 16.0f * kPi * r * r * d;
+  } else {
+    wi = squareToDirection(st);
+  }
+  // The density over the square is f cos times the map's Jacobian.
+  const float v = material_->eval(wi, wo).luminance() * wi.z * jacobian;
   std::atomic_ref<std::uint64_t>(evaluations_).fetch_add(1, std::memory_order_relaxed);
   if (std::isfinite(v) && v >= 0.0f) return v;
   std::atomic_ref<std::uint64_t>(invalid_evaluations_).fetch_add(1, std::memory_order_relaxed);
@@ -192,9 +251,12 @@ std::vector<float> BinnedSampler::tabulateGrid(int nu, int nv) const {
 
 void BinnedSampler::fillCommonStats(SamplerStats& stats) const {
   stats.kind = std::string(toString(kind()));
+  stats.parameterization = std::string(toString(options_.parameterization));
+  stats.auto_variance_incident = auto_variance_incident_;
+  stats.auto_variance_half = auto_variance_half_;
   stats.bins = binCount();
-  stats.full_cdf_bytes = binCount() * (std::size_t(options_.cos_theta_bins + 1) +
-                                       std::size_t(options_.cos_theta_bins) * (options_.phi_bins + 1)) * sizeof(float);
+  stats.full_cdf_bytes =
+      binCount() * (std::size_t(gridRows() + 1) + std::size_t(gridRows()) * (gridColumns() + 1)) * sizeof(float);
   stats.evaluations = evaluations_;
   stats.invalid_evaluations = invalid_evaluations_;
 }
@@ -213,6 +275,41 @@ std::unique_ptr<BinnedSampler> makeSampler(SamplerKind kind, std::shared_ptr<con
     case SamplerKind::Quadtree: return std::make_unique<QuadtreeSampler>(std::move(material), options);
   }
   throw Error("makeSampler: unknown sampler kind");
+}
+
+ParameterizationChoice chooseParameterization(std::shared_ptr<const Material> material, const SamplerOptions& options) {
+  if (!material) throw Error("sampler: no material given");
+  // Probes: tabulated samplers of each parameterization on the full grid but at most 9 theta_o
+  // (and 4 phi_o) bins, so that both cost about half of one full build.
+  SamplerOptions probe = options;
+  probe.theta_o_bins = std::min(options.theta_o_bins, 9);
+  probe.phi_o_bins = std::min(options.phi_o_bins, 4);
+  // Measured a quarter of a full-size bin off each probe bin's centre: the mean distance of a
+  // query from its bin's centre in the sampler being built, where the incident tables lose most.
+  const float offset = 0.25f * kHalfPi / float(options.theta_o_bins);
+  ParameterizationChoice choice;
+  for (const Parameterization p : {Parameterization::Incident, Parameterization::Half}) {
+    probe.parameterization = p;
+    const TabulatedSampler sampler(material, probe);
+    constexpr int kDraws = 4096;
+    double sum = 0;
+    for (int k = 0; k < probe.theta_o_bins; ++k) {
+      const float theta = std::min(thetaOCentre(k, probe.theta_o_bins) + offset, kHalfPi - 1e-3f);
+      const glm::vec3 wo = sphericalDirection(theta, 0.7f);
+      Rng rng(0x5eed, std::uint64_t(k));
+      double m1 = 0, m2 = 0;
+      for (int i = 0; i < kDraws; ++i) {
+        const auto d = sampler.sample(wo, {}, rng.uniform2D());
+        const double w = d ? double(d->weight.luminance()) : 0.0;
+        if (std::isfinite(w)) m1 += w, m2 += w * w;
+      }
+      m1 /= kDraws, m2 /= kDraws;
+      if (m1 > 0) sum += std::max(m2 - m1 * m1, 0.0) / (m1 * m1);
+    }
+    (p == Parameterization::Incident ? choice.incident_variance : choice.half_variance) = sum / probe.theta_o_bins;
+  }
+  choice.chosen = choice.half_variance < choice.incident_variance ? Parameterization::Half : Parameterization::Incident;
+  return choice;
 }
 
 }  // namespace btf

@@ -385,7 +385,7 @@ DpCdfSampler::LaneTables DpCdfSampler::laneTables() const {
 }
 
 bool DpCdfSampler::vectorized() const {
-  return narrow_ && !isAnisotropic() && cpuHasAvx2() &&
+  return narrow_ && !isAnisotropic() && parameterization() == Parameterization::Incident && cpuHasAvx2() &&
          std::max(nodes16_.size(), nodes8_.size()) < (std::size_t(1) << 30) && starts_.size() < (std::size_t(1) << 30);
 }
 

@@ -11,7 +11,7 @@
 namespace btf {
 
 TabulatedSampler::TabulatedSampler(std::shared_ptr<const Material> material, const SamplerOptions& options)
-    : BinnedSampler(std::move(material), options), nu_(options.cos_theta_bins), nv_(options.phi_bins) {
+    : BinnedSampler(std::move(material), options), nu_(gridRows()), nv_(gridColumns()) {
   bin_stride_ = std::size_t(nu_ + 1) + std::size_t(nu_) * (nv_ + 1);
   const std::vector<float> grid = tabulateGrid(nu_, nv_);
   cdfs_.resize(binCount() * bin_stride_);
@@ -64,7 +64,9 @@ std::optional<BinnedSampler::DirectionSample> TabulatedSampler::sampleQuery(cons
   const Cdf1DSample col = sampleCdf1DInCell(std::span(cond, nv_ + 1), j, u.y);
   // pdf of the final float direction, as pdf() computes it (its cell is computed, not searched,
   // so there is nothing to gain from remembering (i, j)).
-  const glm::vec3 wi = glm::normalize(q.fromBinFrame(squareToDirection({row.x, col.x})));
+  const std::optional<glm::vec3> wi_bin = squareToIncoming({row.x, col.x}, q.wo);
+  if (!wi_bin) return std::nullopt;  // a half vector whose reflection is below the horizon
+  const glm::vec3 wi = glm::normalize(q.fromBinFrame(*wi_bin));
   const float p = pdfQuery(q, wi);
   if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
   return DirectionSample{wi, p};
@@ -73,9 +75,9 @@ std::optional<BinnedSampler::DirectionSample> TabulatedSampler::sampleQuery(cons
 float TabulatedSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
   // BinnedSampler::pdfQuery without the virtual call to pdfInBin.
   if (!(wi.z > 0.0f)) return 0.0f;
-  const glm::vec2 st = directionToSquare(q.toBinFrame(wi));
-  if (!(st.x < 1.0f)) return 0.0f;
-  return TabulatedSampler::pdfInBin(q.bin, st) * kInv2Pi;
+  const std::optional<SquarePoint> p = incomingToSquare(q.toBinFrame(wi), q.wo);
+  if (!p) return 0.0f;
+  return TabulatedSampler::pdfInBin(q.bin, p->st) * p->to_solid_angle;
 }
 
 float TabulatedSampler::pdfInBin(std::size_t bin, glm::vec2 st) const {

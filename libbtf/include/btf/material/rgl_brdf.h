@@ -19,10 +19,12 @@
 // eval inverts the VNDF warp at m, interpolates rgb there (negative, out-of-gamut values clamp to
 // 0, as in the reference loader), and divides by cos(theta_i) to return f in 1/sr.
 // sample draws the luminance warp, then the VNDF warp, and reflects wo about m; its pdf is the
-// product of both warps' densities times the Jacobians of u_m -> m (2 pi^2 u_m.x sin(theta_m))
-// and m -> wi (4 <wo.m>), in solid angle. pdf() evaluates the same density through the inverse
-// maps. Draws whose wi falls below the horizon, or whose m faces away from wo, return nothing
-// (the pdf integrates to the probability of a sample).
+// product of both warps' densities times the Jacobians of u_m -> m (2 pi^2 u_m.x sin(theta_m),
+// held at 1e-6 or more as in the reference loader, see rgl_brdf.cpp) and m -> wi (4 <wo.m>), in
+// solid angle. pdf() evaluates that density through the inverse maps, and sample() returns pdf()
+// of the wi it drew (and the weight through the same inverse maps), so the two agree exactly.
+// Draws whose wi falls below the horizon, or whose m faces away from wo, return nothing (the pdf
+// integrates to the probability of a sample).
 //
 // Convention: in the reference loader the fixed direction is called wi and the sampled one wo; in
 // libbtf sample() draws wi given wo, so our wo plays the file's "incident" role throughout.
@@ -63,6 +65,15 @@ class RglBrdf final : public Material {
  private:
   // f cos(theta_i) per channel at the square point s (VNDF domain), for wo with parameters params.
   Rgb reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, float theta_o) const;
+  // (wi, wo) through the inverse maps: m's and wo's unit coordinates, the VNDF square point s, and
+  // (with_pdf) the solid-angle density of sample(), 0 where it is not finite. eval, pdf and sample
+  // all go through it, so that they agree exactly.
+  struct InverseMap {
+    glm::vec2 s{0.0f}, u_m{0.0f}, u_o{0.0f};
+    float theta_o = 0.0f;
+    float pdf = 0.0f;
+  };
+  InverseMap mapBack(const glm::vec3& wi, const glm::vec3& wo, bool with_pdf) const;
 
   std::string stem_;
   std::string description_;

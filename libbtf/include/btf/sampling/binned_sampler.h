@@ -9,13 +9,18 @@
 // bin width). For an isotropic material only theta_o is binned: wi is rotated about the normal by
 // -phi_o into the bin's frame (where wo lies in the xz-plane at phi = 0) and back.
 //
-// Incoming parameterization. (s, t) in [0,1)^2 with s = cos(theta_i) and t = phi_i / (2 pi) in the
-// bin's frame. The map has a constant Jacobian, d omega = d cos(theta) d phi = 2 pi ds dt, so a
-// density p(s, t) over the square is the solid-angle density p / (2 pi), and equal areas of the
-// square are equal solid angles (no cell is favoured by the map). The price is uniform resolution:
-// near-mirror lobes need fine grids or adaptivity (the quadtree).
+// Incoming parameterization (parameterization.h): a 2D distribution over the unit square (s, t),
+// mapped to wi in the bin's frame either directly (Incident: s = cos(theta_i), t = phi_i / (2 pi),
+// d omega = 2 pi ds dt, uniform resolution over the hemisphere) or through the half vector (Half:
+// the square is a map of h that crowds cells towards the normal, wi is wo reflected about h,
+// d omega_i = 16 pi r^2 (wo.h) ds dt),
+// which puts a glossy lobe at the square's centre whatever wo is and spreads it over many cells.
+// Half maps use the query's own wo (rotated into the bin frame), not the bin's central one, so the
+// lobe follows wo within a bin. makeSampler with Parameterization::Auto builds both and keeps the
+// one whose estimates vary less (see makeSampler).
 //
-// What is tabulated: the luminance of f(wi, wo) * cos(theta_i) (as rendering weights it), plus
+// What is tabulated: the luminance of f(wi, wo) * cos(theta_i) (as rendering weights it) times the
+// map's Jacobian over the square (constant for Incident, 16 pi r^2 (wo.h) for Half), plus
 // defensive_fraction times its mean over the bin, so that the density is > 0 wherever f may be
 // (the estimator stays unbiased even where the tabulation missed a feature). Values that are NaN,
 // infinite or negative count as 0; how many there were is in stats().invalid_evaluations and
@@ -54,6 +59,7 @@
 #include "btf/core/math.h"
 #include "btf/material/material.h"
 #include "btf/sampling/dp_cdf.h"
+#include "btf/sampling/parameterization.h"
 
 namespace btf {
 
@@ -62,12 +68,17 @@ std::string_view toString(SamplerKind kind);  // "tabulated", "dp-cdf", "quadtre
 std::optional<SamplerKind> parseSamplerKind(std::string_view name);
 
 struct SamplerOptions {
+  // How the incoming directions are laid over the square (parameterization.h); Auto measures both
+  // (chooseParameterization) when the sampler is built.
+  Parameterization parameterization = Parameterization::Auto;
   // Outgoing bins.
   int theta_o_bins = 32;
   int phi_o_bins = 16;  // anisotropic materials only
-  // Incoming grid of the tabulated and DP samplers: rows in s = cos(theta_i), columns in phi_i.
+  // Incoming grid of the tabulated and DP samplers: rows in s = cos(theta_i), columns in phi_i
+  // (Incident), or cells per side of the half-vector square (Half).
   int cos_theta_bins = 64;
   int phi_bins = 128;
+  int half_vector_bins = 128;
   int supersampling = 2;  // eval() at supersampling^2 stratified points per cell, averaged
   float defensive_fraction = 1e-3f;
   // DP-CDF: tolerance on every 1D CDF (0 keeps all but collinear nodes; >= 1 keeps endpoints only).
@@ -87,6 +98,11 @@ struct SamplerOptions {
 
 struct SamplerStats {
   std::string kind;
+  std::string parameterization;  // "incident" or "half"
+  // When the parameterization was chosen (Auto): the relative variance per sample of f cos / pdf
+  // measured for each (chooseParameterization); NaN otherwise.
+  double auto_variance_incident = std::numeric_limits<double>::quiet_NaN();
+  double auto_variance_half = std::numeric_limits<double>::quiet_NaN();
   std::size_t bytes = 0;           // the sampler's own tables (not the wrapped material)
   std::size_t full_cdf_bytes = 0;  // float CDFs of the full grid (cos_theta_bins x phi_bins), for ratios
   std::size_t bins = 0, empty_bins = 0;
@@ -133,12 +149,19 @@ class BinnedSampler : public Material {
 
   virtual SamplerKind kind() const = 0;
   virtual SamplerStats stats() const = 0;
+  // The options as built: parameterization() is Incident or Half (Auto resolved).
   const SamplerOptions& options() const { return options_; }
+  Parameterization parameterization() const { return options_.parameterization; }
+  // The grid of the tabulated and DP samplers for the parameterization: rows x columns.
+  int gridRows() const { return half() ? options_.half_vector_bins : options_.cos_theta_bins; }
+  int gridColumns() const { return half() ? options_.half_vector_bins : options_.phi_bins; }
   const Material& material() const { return *material_; }
   std::size_t binCount() const { return std::size_t(theta_o_bins_) * phi_o_bins_; }
   // The bin a wo falls in (wo.z > 0), and the central wo the bin was tabulated for (bin frame).
   std::size_t binOf(const glm::vec3& wo) const;
   glm::vec3 binDirection(std::size_t bin) const;
+  // The bin's wo at its lower theta_o edge (and central phi_o).
+  glm::vec3 binLowerEdgeDirection(std::size_t bin) const;
 
  protected:
   // The bin of a wo and the rotation from the bin frame to the local frame (identity when
@@ -146,6 +169,7 @@ class BinnedSampler : public Material {
   struct BinQuery {
     std::size_t bin;
     float cos_phi, sin_phi;
+    glm::vec3 wo;  // the query's wo in the bin frame (Half maps reflect about it)
     glm::vec3 toBinFrame(const glm::vec3& w) const {
       return {cos_phi * w.x + sin_phi * w.y, -sin_phi * w.x + cos_phi * w.y, w.z};
     }
@@ -184,6 +208,39 @@ class BinnedSampler : public Material {
   // Logs a warning if any evaluation was invalid; derived constructors call it last.
   void reportInvalidEvaluations() const;
 
+  bool half() const { return options_.parameterization == Parameterization::Half; }
+  // The parameterization's map from a square point to wi in the bin frame (unit length), or
+  // nothing where a half vector's reflection leaves the upper hemisphere.
+  std::optional<glm::vec3> squareToIncoming(glm::vec2 st, const glm::vec3& wo_bin) const {
+    if (!half()) return squareToDirection(st);
+    const glm::vec3 h = squareToHalfVector(st);
+    const float d = glm::dot(wo_bin, h);
+    const glm::vec3 wi = (2.0f * d) * h - wo_bin;
+    if (!(d > 0.0f) || !(wi.z > 0.0f)) return std::nullopt;
+    return glm::normalize(wi);
+  }
+  // The square point of wi (bin frame, wi.z > 0) and the factor that turns a density over the
+  // square into the solid-angle pdf of wi: 1 / (2 pi) for Incident, 1 / (16 pi r^2 wo.h) for Half
+  // (parameterization.h). Nothing outside the square (wi.z == 1 exactly for Incident, h == n
+  // exactly for Half: null sets) or for NaN.
+  struct SquarePoint {
+    glm::vec2 st;
+    float to_solid_angle;
+  };
+  std::optional<SquarePoint> incomingToSquare(const glm::vec3& wi_bin, const glm::vec3& wo_bin) const {
+    if (!half()) {
+      const glm::vec2 st = directionToSquare(wi_bin);
+      if (!(st.x < 1.0f)) return std::nullopt;
+      return SquarePoint{st, kInv2Pi};
+    }
+    const glm::vec3 h = glm::normalize(wi_bin + wo_bin);
+    const float d = glm::dot(wo_bin, h);
+    const HalfVectorSquare m = halfVectorToSquare(h);
+    const float jacobian = (16.0f * kPi) * (m.r * m.r) * d;
+    if (!(jacobian > 0.0f) || !(m.st.x >= 0.0f && m.st.y >= 0.0f)) return std::nullopt;  // NaN fails the tests
+    return SquarePoint{m.st, 1.0f / jacobian};
+  }
+
   // Inline (and free of library trigonometry, see core/fast_trig.h) because they are on every query.
   static glm::vec3 squareToDirection(glm::vec2 st) {
     const float z = st.x, r = std::sqrt(std::max(1.0f - z * z, 0.0f));
@@ -214,6 +271,9 @@ class BinnedSampler : public Material {
   // so the lookup scans forward over the few edges left instead of bisecting all of them.
   std::vector<std::uint16_t> theta_guide_;
   mutable std::uint64_t evaluations_ = 0, invalid_evaluations_ = 0;  // build-time only (atomically)
+  // What chooseParameterization measured (NaN when the parameterization was given).
+  double auto_variance_incident_ = std::numeric_limits<double>::quiet_NaN();
+  double auto_variance_half_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Inline (with query): on every sample and pdf, and a call from the library's own code would go
@@ -243,7 +303,7 @@ inline std::size_t BinnedSampler::binOf(const glm::vec3& wo) const {
 }
 
 inline BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
-  BinQuery q{binOf(wo), 1.0f, 0.0f};
+  BinQuery q{binOf(wo), 1.0f, 0.0f, wo};
   if (!anisotropic_) {
     // wo is a unit vector, so x^2 + y^2 cannot overflow: no need for hypot's care (and cost).
     // Below ~1e-19 the square underflows to 0 and the identity is used, as at the pole itself.
@@ -252,6 +312,7 @@ inline BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
       const float inv = 1.0f / std::sqrt(r2);
       q.cos_phi = wo.x * inv, q.sin_phi = wo.y * inv;
     }
+    if (half()) q.wo = q.toBinFrame(wo);
   }
   return q;
 }
@@ -259,5 +320,16 @@ inline BinnedSampler::BinQuery BinnedSampler::query(const glm::vec3& wo) const {
 // Builds the sampler of the given kind (throws btf::Error as the constructors do).
 std::unique_ptr<BinnedSampler> makeSampler(SamplerKind kind, std::shared_ptr<const Material> material,
                                            const SamplerOptions& options = {});
+
+// Parameterization::Auto: builds a tabulated sampler of each parameterization with the options'
+// grids but at most 9 theta_o (and 4 phi_o) bins, and keeps the one whose estimate of f cos varies
+// less: the mean over the probe bins of the relative variance per sample of f cos / pdf
+// (luminance; a missing draw counts 0), 4,096 draws per bin from fixed streams at a quarter of a
+// full-size bin off each probe bin's centre. Deterministic; costs about one full build.
+struct ParameterizationChoice {
+  Parameterization chosen = Parameterization::Incident;
+  double incident_variance = 0, half_variance = 0;
+};
+ParameterizationChoice chooseParameterization(std::shared_ptr<const Material> material, const SamplerOptions& options);
 
 }  // namespace btf

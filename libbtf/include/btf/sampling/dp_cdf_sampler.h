@@ -1,6 +1,7 @@
 // The tabulated sampler with compressed CDFs (dp_cdf.h): the same grid as TabulatedSampler, but
-// the marginal CDF of each bin and the conditional CDF of each row keep only the vertices that the
-// chosen reduction needs to stay within options.epsilon of the full CDF. Sampling: a search of the
+// the conditional CDF of each row keeps only the vertices that the chosen reduction needs to stay
+// within options.epsilon of the full CDF, and the marginal CDF of each bin those within
+// epsilon / kMarginalTighter. Sampling: a search of the
 // marginal's vertices (continuous s, inverting the linear segment), the row holding s chooses the
 // conditional, a search of its vertices gives t. pdf(s, t) = marginal slope at s times the
 // conditional's slope at t, over 2 pi: exact for any epsilon (it is the density of the stored
@@ -42,6 +43,8 @@ class DpCdfSampler final : public BinnedSampler {
   // From this epsilon on, CDF values are stored in 16 bits (the quantum then adds at most 1/64
   // of epsilon to the deviation); below it as floats.
   static constexpr float kNarrowEpsilon = 32.0f / 65535.0f;
+  // The marginal CDF of each bin is reduced to epsilon / kMarginalTighter (dp_cdf_sampler.cpp).
+  static constexpr float kMarginalTighter = 16.0f;
   // How far inside its grid cell (in units of s and t) a draw must be for the pdf shortcut.
   static constexpr float kCellMargin = 1e-5f;
 
