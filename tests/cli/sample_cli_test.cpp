@@ -98,9 +98,11 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
   const std::vector<std::string> columns = {"material", "sampler", "parameter", "bytes", "samples_per_s",
                                             "chi2_statistic", "chi2_p", "variance", "seconds", "efficiency",
                                             "rel_error_vs_reference", "per_sample_variance", "full_cdf_bytes",
-                                            "acceptance_rate", "stream_samples_per_s"};
+                                            "acceptance_rate", "stream_samples_per_s", "theta_o_deg",
+                                            "parameterization", "fcos_rel_variance", "efficiency_vs_own",
+                                            "stream_efficiency_vs_own"};
   EXPECT_EQ(rows[0], columns);
-  std::map<std::string, int> per_sampler;
+  std::map<std::string, int> per_sampler, per_view;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     ASSERT_EQ(rows[i].size(), columns.size()) << i;
     ++per_sampler[rows[i][1]];
@@ -121,7 +123,18 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
     EXPECT_EQ(rows[i][14].empty(), !tables) << "stream_samples_per_s of " << sampler;
     if (tables) {
       EXPECT_GT(std::stod(rows[i][14]), 0.0) << "stream_samples_per_s of " << sampler;
+      EXPECT_TRUE(rows[i][16] == "incident" || rows[i][16] == "half") << "parameterization of " << sampler;
+      EXPECT_GT(std::stod(rows[i][19]), 0.0) << "stream_efficiency_vs_own of " << sampler;
+    } else {
+      EXPECT_TRUE(rows[i][16].empty()) << "parameterization of " << sampler;
     }
+    // Every row is related to the own sampler's at its view (the own sampler's own ratio is 1).
+    EXPECT_GT(std::stod(rows[i][18]), 0.0) << "efficiency_vs_own of " << sampler;
+    if (sampler == "material") {
+      EXPECT_DOUBLE_EQ(std::stod(rows[i][18]), 1.0);
+    }
+    EXPECT_GE(std::stod(rows[i][17]), 0.0) << "fcos_rel_variance of " << sampler;
+    ++per_view[rows[i][15]];
     if (sampler == "quadtree") {
       EXPECT_GE(std::stod(rows[i][13]), 0.25) << "bilinear leaves accept at least a quarter";
       EXPECT_LE(std::stod(rows[i][13]), 1.0);
@@ -135,6 +148,10 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
   EXPECT_NE(r.output.find("DP-CDF memory target"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("(quadrature"), std::string::npos) << r.output;
   EXPECT_GE(per_sampler["dp-cdf"], 2) << "a sweep of epsilon";
+  // The default views, each with the same rows.
+  EXPECT_EQ(per_view.size(), 4u);
+  for (const auto& [view, count] : per_view) EXPECT_EQ(count, per_view.begin()->second) << view;
+  EXPECT_NE(r.output.find("Against the material's own sampler"), std::string::npos) << r.output;
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     for (const char* chart : {"sampling_memory_vs_error", "sampling_speed_vs_error", "sampling_efficiency"})
       for (const char* ext : {".png", ".svg"}) EXPECT_TRUE(std::filesystem::exists(out / (std::string(chart) + ext))) << chart << ext;
@@ -154,7 +171,7 @@ TEST(BenchSampling, SweepsTheGivenEpsilonsAndThresholdsAndRejectsBadOnes) {
   TempDir dir;
   const auto out = dir / "b";
   const CommandResult r = runBtf({"bench", "sampling", "--quick", "--epsilons", "0.02,0.005", "--thresholds", "3",
-                                  "-o", out.string()});
+                                  "--theta-o", "30", "--parameterizations", "half", "-o", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<double> epsilons, thresholds;
   for (const auto& row : readCsv(out / "sampling.csv")) {
@@ -163,7 +180,11 @@ TEST(BenchSampling, SweepsTheGivenEpsilonsAndThresholdsAndRejectsBadOnes) {
   }
   EXPECT_EQ(epsilons, (std::vector<double>{0.02, 0.005}));
   EXPECT_EQ(thresholds, (std::vector<double>{3.0}));
-  for (const char* bad : {"--epsilons=-0.1", "--thresholds=0.5"}) {
+  for (const auto& row : readCsv(out / "sampling.csv"))
+    if (row.size() > 16 && (row[1] == "dp-cdf" || row[1] == "quadtree" || row[1] == "tabulated")) {
+      EXPECT_EQ(row[16], "half");
+    }
+  for (const char* bad : {"--epsilons=-0.1", "--thresholds=0.5", "--theta-o=95", "--parameterizations=diagonal"}) {
     const CommandResult e = runBtf({"bench", "sampling", "--quick", bad, "-o", (dir / "c").string()});
     EXPECT_NE(e.exit_code, 0) << bad;
     const std::string option(bad, std::string(bad).find('='));  // the message names the option

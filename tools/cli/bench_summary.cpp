@@ -6,19 +6,21 @@
 namespace btf::cli {
 namespace {
 
-// Materials in order of first appearance.
-std::vector<std::string> materialsOf(const std::vector<SamplingRow>& rows) {
+// Groups (material, theta_o, parameterization: SamplingRow::group) in order of first appearance,
+// tabulated samplers only (the warps and the own sampler have no parameterization).
+std::vector<std::string> groupsOf(const std::vector<SamplingRow>& rows) {
   std::vector<std::string> names;
   for (const SamplingRow& r : rows)
-    if (std::find(names.begin(), names.end(), r.material) == names.end()) names.push_back(r.material);
+    if (!r.parameterization.empty() && std::find(names.begin(), names.end(), r.group()) == names.end())
+      names.push_back(r.group());
   return names;
 }
 
-// The row of the sampler on the material with the largest efficiency, or null.
-const SamplingRow* best(const std::vector<SamplingRow>& rows, const std::string& material, const std::string& sampler) {
+// The row of the sampler in the group with the largest efficiency, or null.
+const SamplingRow* best(const std::vector<SamplingRow>& rows, const std::string& group, const std::string& sampler) {
   const SamplingRow* found = nullptr;
   for (const SamplingRow& r : rows)
-    if (r.material == material && r.sampler == sampler && (!found || r.efficiency > found->efficiency)) found = &r;
+    if (r.group() == group && r.sampler == sampler && (!found || r.efficiency > found->efficiency)) found = &r;
   return found;
 }
 
@@ -26,14 +28,14 @@ const SamplingRow* best(const std::vector<SamplingRow>& rows, const std::string&
 
 void printQuadtreeSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
   std::fprintf(out, "\nQuadtree sampler (acceptance = mean over its bins of the per-proposal acceptance):\n");
-  std::fprintf(out, "  %-26s %9s %11s %12s %12s %12s\n", "material", "threshold", "acceptance", "samples/s",
-               "efficiency", "best dp-cdf");
+  std::fprintf(out, "  %-40s %9s %11s %12s %12s %12s\n", "material, theta_o, parameterization", "threshold",
+               "acceptance", "samples/s", "efficiency", "best dp-cdf");
   std::string wins, losses;
-  for (const std::string& m : materialsOf(rows)) {
+  for (const std::string& m : groupsOf(rows)) {
     const SamplingRow* dp = best(rows, m, "dp-cdf");
     for (const SamplingRow& r : rows) {
-      if (r.material != m || r.sampler != "quadtree") continue;
-      std::fprintf(out, "  %-26s %9.3g %11.3f %12.4g %12.4g %12.4g\n", m.c_str(), r.parameter.value_or(0),
+      if (r.group() != m || r.sampler != "quadtree") continue;
+      std::fprintf(out, "  %-40s %9.3g %11.3f %12.4g %12.4g %12.4g\n", m.c_str(), r.parameter.value_or(0),
                    r.acceptance_rate.value_or(0), r.samples_per_s, r.efficiency, dp ? dp->efficiency : 0.0);
     }
     const SamplingRow* qt = best(rows, m, "quadtree");
@@ -52,20 +54,20 @@ void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& ro
                "\nDP-CDF memory target: bytes <= 1/10 of the full tabulated CDF at efficiency >= 0.95 of the "
                "tabulated sampler's (* = both met; efficiency ratios carry the noise of a timing, variance ratios "
                "none):\n");
-  std::fprintf(out, "  %-26s %9s %14s %16s %16s %s\n", "material", "epsilon", "bytes/full_cdf", "eff/tabulated",
-               "var_tab/var_dp", "");
+  std::fprintf(out, "  %-40s %9s %14s %16s %16s %s\n", "material, theta_o, parameterization", "epsilon",
+               "bytes/full_cdf", "eff/tabulated", "var_tab/var_dp", "");
   std::string met, missed;
-  for (const std::string& m : materialsOf(rows)) {
+  for (const std::string& m : groupsOf(rows)) {
     const SamplingRow* tab = best(rows, m, "tabulated");
     bool any = false;
     for (const SamplingRow& r : rows) {
-      if (r.material != m || r.sampler != "dp-cdf" || !r.bytes || !r.full_cdf_bytes || *r.full_cdf_bytes <= 0) continue;
+      if (r.group() != m || r.sampler != "dp-cdf" || !r.bytes || !r.full_cdf_bytes || *r.full_cdf_bytes <= 0) continue;
       const double memory = *r.bytes / *r.full_cdf_bytes;
       const double efficiency = tab && tab->efficiency > 0 ? r.efficiency / tab->efficiency : 0.0;
       const bool ok = memory <= 0.1 && efficiency >= 0.95;
       // The variance ratio is the efficiency ratio without the timing (same draws every run).
       const double variance_ratio = tab && r.variance > 0 ? tab->variance / r.variance : 0.0;
-      std::fprintf(out, "  %-26s %9.3g %14.4f %16.3f %16.3f %s\n", m.c_str(), r.parameter.value_or(0), memory, efficiency,
+      std::fprintf(out, "  %-40s %9.3g %14.4f %16.3f %16.3f %s\n", m.c_str(), r.parameter.value_or(0), memory, efficiency,
                    variance_ratio, ok ? "*" : "");
       if (ok && !any) {
         char item[160];
@@ -78,6 +80,30 @@ void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& ro
   }
   std::fprintf(out, "Memory target met (first epsilon) on: %s\n", met.empty() ? "none" : met.c_str());
   std::fprintf(out, "Memory target missed on: %s\n", missed.empty() ? "none" : missed.c_str());
+}
+
+void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
+  std::fprintf(out,
+               "\nAgainst the material's own sampler at the same theta_o (ratios > 1: ours is better; eff = 1 / "
+               "(variance * seconds) with sample()'s time, stream = with the stream call's time per draw; var = "
+               "environment-lit variance per sample; f cos = relative variance of f cos / pdf):\n");
+  std::fprintf(out, "  %-26s %7s %-9s %-9s %8s %10s %9s %11s %9s %13s\n", "material", "theta_o", "param", "sampler", "eps",
+               "bytes/full", "eff/own", "stream/own", "var own/", "f cos own/");
+  for (const SamplingRow& r : rows) {
+    if (!r.efficiency_vs_own || r.parameterization.empty()) continue;
+    const auto own = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& o) {
+      return o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material";
+    });
+    if (own == rows.end()) continue;
+    char eps[16] = "", memory[16] = "", stream[16] = "";
+    if (r.parameter) std::snprintf(eps, sizeof eps, "%.3g", *r.parameter);
+    if (r.bytes && r.full_cdf_bytes && *r.full_cdf_bytes > 0) std::snprintf(memory, sizeof memory, "%.3f", *r.bytes / *r.full_cdf_bytes);
+    if (r.stream_efficiency_vs_own) std::snprintf(stream, sizeof stream, "%.2f", *r.stream_efficiency_vs_own);
+    std::fprintf(out, "  %-26s %7.0f %-9s %-9s %8s %10s %9.2f %11s %9.3f %13.3f\n", r.material.c_str(), r.theta_o_deg,
+                 r.parameterization.c_str(), r.sampler.c_str(), eps, memory, *r.efficiency_vs_own, stream,
+                 r.per_sample_variance > 0 ? own->per_sample_variance / r.per_sample_variance : 0.0,
+                 r.fcos_rel_variance > 0 ? own->fcos_rel_variance / r.fcos_rel_variance : 0.0);
+  }
 }
 
 }  // namespace btf::cli

@@ -5,6 +5,10 @@
 // - the memory target "DP-CDF memory <= 1/10 of the full tabulated CDF at equal efficiency within
 //   5%": per material and epsilon, bytes / full_cdf_bytes and efficiency / tabulated efficiency,
 //   with the epsilons meeting both marked.
+// - against the material's own sampler (for an RGL file, the file's warp): per material, theta_o,
+//   parameterization and setting, the single-query and stream efficiency ratios and the variance
+//   ratios with and without the environment.
+// Summaries compare rows of one material, theta_o and parameterization (SamplingRow::group).
 // Efficiency is a measurement (a variance estimate times a wall time), so a ratio near 0.95 is
 // within its noise; the table says so rather than hiding it.
 #pragma once
@@ -18,5 +22,6 @@ namespace btf::cli {
 
 void printQuadtreeSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
+void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 
 }  // namespace btf::cli

@@ -3,6 +3,8 @@
 // difference.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -22,7 +24,7 @@ namespace btf::cli {
 namespace {
 
 struct SampleOptions {
-  std::string file, output, sampler = "dp-cdf";
+  std::string file, output, sampler = "dp-cdf", parameterization = "auto";
   float theta_o = 30.0f, phi_o = 0.0f;
   float epsilon = SamplerOptions{}.epsilon;
   float threshold = SamplerOptions{}.threshold;
@@ -39,6 +41,8 @@ constexpr double kAlpha = 0.01;
 void runSample(const SampleOptions& o) {
   const auto choice = parseSamplerChoice(o.sampler);
   if (!choice) throw Error("unknown sampler '" + o.sampler + "' (known: " + samplerChoiceNames() + ")");
+  const auto parameterization = parseParameterization(o.parameterization);
+  if (!parameterization) throw Error("unknown parameterization '" + o.parameterization + "' (known: auto, incident, half)");
   if (!(o.theta_o >= 0.0f && o.theta_o < 90.0f))
     throw Error("--theta-o must be in [0, 90) degrees (got " + std::to_string(o.theta_o) + ")");
   if (std::filesystem::path(o.output).extension() != ".png")
@@ -49,6 +53,7 @@ void runSample(const SampleOptions& o) {
   SamplerOptions sampler_options;
   sampler_options.epsilon = o.epsilon;
   sampler_options.threshold = o.threshold;
+  sampler_options.parameterization = *parameterization;
   const std::shared_ptr<const Material> sampled = withSampler(*choice, material, sampler_options);
 
   const float to_radians = kPi / 180.0f;
@@ -83,7 +88,14 @@ void runSample(const SampleOptions& o) {
                         {"accepted", result.accepted}, {"failed_samples", result.failed_samples},
                         {"samples_per_s", samples_per_s}, {"output", o.output}};
     if (binned) {
-      j["bytes"] = binned->stats().bytes;
+      const SamplerStats stats = binned->stats();
+      j["bytes"] = stats.bytes;
+      j["full_cdf_bytes"] = stats.full_cdf_bytes;
+      j["parameterization"] = stats.parameterization;
+      if (std::isfinite(stats.auto_variance_incident)) {
+        j["auto_relative_variance_incident"] = stats.auto_variance_incident;
+        j["auto_relative_variance_half"] = stats.auto_variance_half;
+      }
       j["stream_samples_per_s"] = *stream_samples_per_s;
     }
     std::printf("%s\n", j.dump(2).c_str());
@@ -92,6 +104,15 @@ void runSample(const SampleOptions& o) {
   std::printf("%s\n", result.message.c_str());
   std::printf("chi2 statistic %.2f, dof %d, p-value %.4g (alpha %.2g): %s\n", result.statistic,
               result.degrees_of_freedom, result.p_value, kAlpha, result.accepted ? "accepted" : "rejected");
+  if (binned) {
+    const SamplerStats stats = binned->stats();
+    std::printf("parameterization %s", stats.parameterization.c_str());
+    if (std::isfinite(stats.auto_variance_incident))
+      std::printf(" (auto: relative variance of f cos / pdf, incident %.4g, half %.4g)", stats.auto_variance_incident,
+                  stats.auto_variance_half);
+    std::printf("; tables %zu bytes (%.3f of the full CDF)\n", stats.bytes,
+                double(stats.bytes) / double(std::max<std::size_t>(stats.full_cdf_bytes, 1)));
+  }
   std::printf("samples/s %.4g (one core, direction + pdf)\n", samples_per_s);
   if (stream_samples_per_s)
     std::printf("samples/s %.4g through the stream call (one core, blocks of 256)\n", *stream_samples_per_s);
@@ -110,6 +131,9 @@ void registerSampleCommand(CLI::App& app) {
   cmd->add_option("--sampler", o->sampler, "One of: " + samplerChoiceNames() + " (material: the file's own sampler)")
       ->capture_default_str();
   cmd->add_option("--epsilon", o->epsilon, "DP-CDF tolerance")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--parameterization", o->parameterization,
+                  "Tables over the incident direction, over the half vector, or auto (measures both)")
+      ->check(CLI::IsMember({"auto", "incident", "half"}))->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Quadtree subdivision threshold (max/mean)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("-n,--samples", o->count, "Number of draws")->check(CLI::Range(std::uint64_t(1000), std::uint64_t(1e9)))

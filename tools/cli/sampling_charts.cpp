@@ -1,6 +1,7 @@
 #include "sampling_charts.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -16,7 +17,9 @@ constexpr double kErrorFloor = 1e-5;
 
 std::string gpQuote(const std::string& text) { return tools::gnuplotQuote(text); }
 
-std::string seriesName(const SamplingRow& r) { return r.sampler; }
+std::string seriesName(const SamplingRow& r) {
+  return r.parameterization.empty() ? r.sampler : r.sampler + " " + r.parameterization;
+}
 
 // One inline data block per sampler, in order of first appearance: "x y" lines.
 template <typename Point>
@@ -50,10 +53,11 @@ std::vector<std::pair<std::string, std::optional<double>>> barSamplers(const std
   std::map<std::string, std::vector<double>> sweeps;
   for (const SamplingRow& r : rows) {
     if (r.parameter) {
-      auto& v = sweeps[r.sampler];
+      auto& v = sweeps[seriesName(r)];
       if (std::find(v.begin(), v.end(), *r.parameter) == v.end()) v.push_back(*r.parameter);
-    } else if (std::find(chosen.begin(), chosen.end(), std::make_pair(r.sampler, std::optional<double>())) == chosen.end()) {
-      chosen.emplace_back(r.sampler, std::nullopt);
+    } else if (std::find(chosen.begin(), chosen.end(), std::make_pair(seriesName(r), std::optional<double>())) ==
+               chosen.end()) {
+      chosen.emplace_back(seriesName(r), std::nullopt);
     }
   }
   for (auto& [sampler, values] : sweeps) {
@@ -63,7 +67,11 @@ std::vector<std::pair<std::string, std::optional<double>>> barSamplers(const std
   return chosen;
 }
 
-std::string efficiencyBlock(const std::vector<SamplingRow>& rows, std::vector<std::string>& titles) {
+// The bars show the first view of the run (the rows of its theta_o), one bar per sampler setting.
+std::string efficiencyBlock(const std::vector<SamplingRow>& all_rows, std::vector<std::string>& titles) {
+  std::vector<SamplingRow> rows;
+  for (const SamplingRow& r : all_rows)
+    if (r.theta_o_deg == all_rows.front().theta_o_deg) rows.push_back(r);
   const auto samplers = barSamplers(rows);
   std::vector<std::string> materials;
   for (const SamplingRow& r : rows)
@@ -74,7 +82,7 @@ std::string efficiencyBlock(const std::vector<SamplingRow>& rows, std::vector<st
     out << gpQuote(m);
     for (const auto& [sampler, parameter] : samplers) {
       const auto it = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& r) {
-        return r.material == m && r.sampler == sampler && r.parameter == parameter;
+        return r.material == m && seriesName(r) == sampler && r.parameter == parameter;
       });
       if (it != rows.end() && it->efficiency > 0 && std::isfinite(it->efficiency)) out << ' ' << it->efficiency;
       else out << " ?";
@@ -85,10 +93,62 @@ std::string efficiencyBlock(const std::vector<SamplingRow>& rows, std::vector<st
   for (const auto& [sampler, parameter] : samplers) {
     std::ostringstream t;
     t << sampler;
-    if (parameter) t << (sampler == "dp-cdf" ? " eps " : " thr ") << *parameter;
+    if (parameter) t << (sampler.rfind("dp-cdf", 0) == 0 ? " eps " : " thr ") << *parameter;
     titles.push_back(t.str());
   }
   return out.str();
+}
+
+// Per material, efficiency relative to its own sampler against theta_o: the tabulated sampler and
+// DP-CDF at the middle epsilon of the run, single queries and stream calls, per parameterization.
+std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows, std::ostringstream& script) {
+  std::vector<double> epsilons;
+  for (const SamplingRow& r : rows)
+    if (r.sampler == "dp-cdf" && r.parameter && std::find(epsilons.begin(), epsilons.end(), *r.parameter) == epsilons.end())
+      epsilons.push_back(*r.parameter);
+  std::sort(epsilons.begin(), epsilons.end());
+  const double middle = epsilons.empty() ? -1.0 : epsilons[epsilons.size() / 2];
+  std::vector<std::string> materials;
+  for (const SamplingRow& r : rows)
+    if (r.efficiency_vs_own && std::find(materials.begin(), materials.end(), r.material) == materials.end())
+      materials.push_back(r.material);
+  std::vector<tools::GnuplotChart> charts;
+  for (std::size_t mi = 0; mi < materials.size(); ++mi) {
+    std::map<std::string, std::ostringstream> blocks;
+    std::vector<std::string> series;
+    auto add = [&](const std::string& name, double x, double y) {
+      if (!(y > 0) || !std::isfinite(y)) return;
+      if (!blocks.count(name)) series.push_back(name);
+      blocks[name] << x << ' ' << y << '\n';
+    };
+    for (const SamplingRow& r : rows) {
+      if (r.material != materials[mi] || !r.efficiency_vs_own || r.parameterization.empty()) continue;
+      if (r.sampler == "dp-cdf" && r.parameter && *r.parameter == middle) {
+        std::ostringstream name;
+        name << "dp-cdf " << r.parameterization << " eps " << middle;
+        add(name.str(), r.theta_o_deg, *r.efficiency_vs_own);
+        if (r.stream_efficiency_vs_own) add(name.str() + " stream", r.theta_o_deg, *r.stream_efficiency_vs_own);
+      } else if (r.sampler == "tabulated") {
+        add("tabulated " + r.parameterization, r.theta_o_deg, *r.efficiency_vs_own);
+      }
+    }
+    if (series.empty()) continue;
+    const std::string prefix = "own" + std::to_string(mi) + "_";
+    for (std::size_t i = 0; i < series.size(); ++i) script << '$' << prefix << i << " << EOD\n" << blocks[series[i]].str() << "EOD\n";
+    std::ostringstream body;
+    body << "set title " << gpQuote("Efficiency relative to the material's own sampler: " + materials[mi]) << "\n"
+         << "set logscale y\nset xlabel 'theta_o (deg)'\nset ylabel 'efficiency / own sampler'\nset grid\n"
+         << "set key outside right\nset xrange [-5:90]\n";
+    body << "plot 1 with lines dt 2 lc 'black' title 'own sampler'";
+    for (std::size_t i = 0; i < series.size(); ++i)
+      body << ", $" << prefix << i << " using 1:2 with linespoints lw 2 title " << gpQuote(series[i]);
+    body << "\n";
+    std::string stem = "sampling_vs_own_" + materials[mi];
+    for (char& c : stem)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
+    charts.push_back({stem, body.str()});
+  }
+  return charts;
 }
 
 }  // namespace
@@ -107,7 +167,7 @@ ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::
   }, speed_series);
   script << efficiencyBlock(rows, bar_titles);
 
-  const std::vector<tools::GnuplotChart> charts = {
+  std::vector<tools::GnuplotChart> charts = {
       {"sampling_memory_vs_error",
        "set title 'Memory of the sampling tables vs error of the fixed estimate (all materials)'\n"
        "set logscale xy\nset xlabel 'bytes'\nset ylabel 'rel. error vs reference (|estimate - ref| / ref)'\n" +
@@ -118,7 +178,8 @@ ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::
            plotSeries("speed", speed_series)},
       {"sampling_efficiency", [&] {
          std::ostringstream b;
-         b << "set title 'efficiency = 1 / (variance * seconds) of the environment-lit radiance estimate'\n"
+         b << "set title " << gpQuote("efficiency = 1 / (variance * seconds) of the environment-lit radiance estimate, theta_o " +
+                                      std::to_string(int(rows.empty() ? 0 : rows.front().theta_o_deg)) + " deg") << "\n"
            << "set logscale y\nset ylabel 'efficiency (1 / (variance * s))'\nset style data histogram\n"
            << "set style histogram clustered gap 1\nset style fill solid 0.85 border -1\nset boxwidth 0.9\n"
            << "set xtics rotate by -30 noenhanced\nset yrange [*:*]\n";
@@ -129,6 +190,7 @@ ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::
          return b.str();
        }()},
   };
+  for (tools::GnuplotChart& c : ownCharts(rows, script)) charts.push_back(std::move(c));
   const tools::GnuplotOutcome drawn = tools::drawGnuplotCharts(folder, "sampling_charts.gp", script.str(), charts);
   return ChartOutcome{drawn.files, drawn.message};
 }

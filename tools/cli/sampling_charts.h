@@ -2,7 +2,10 @@
 // a generated script, each as PNG (pngcairo if gnuplot has it, else png) and SVG:
 //   sampling_memory_vs_error   bytes of the tables against rel_error_vs_reference (log-log)
 //   sampling_speed_vs_error    samples_per_s against rel_error_vs_reference (log-log)
-//   sampling_efficiency        efficiency per material, one bar per sampler (log scale)
+//   sampling_efficiency        efficiency per material at the first view, one bar per sampler (log)
+//   sampling_vs_own_MATERIAL   efficiency / the material's own sampler's against theta_o: tabulated
+//                              and DP-CDF (middle epsilon; single queries and stream) per
+//                              parameterization
 // The data is inlined in the script, so the script alone reproduces the charts.
 #pragma once
 

@@ -95,6 +95,21 @@ Quadrature referenceRadiance(const Material& material, const glm::vec3& wo, int 
   return q;
 }
 
+double fcosRelativeVariance(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed) {
+  Rng rng(seed, 3);
+  double sum = 0, sum_sq = 0;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const auto s = sampled.sample(wo, {}, rng.uniform2D());
+    if (!s) continue;
+    const double w = double(s->weight.luminance());
+    sum += w;
+    sum_sq += w * w;
+  }
+  const double n = double(count), mean = sum / n;
+  if (!(mean > 0)) return 0.0;
+  return std::max(0.0, (sum_sq - n * mean * mean) / std::max(1.0, n - 1.0)) / (mean * mean);
+}
+
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed) {
   Rng rng(seed, 2);
   // The sink keeps the compiler from dropping draws whose results are unused.

@@ -43,6 +43,11 @@ struct Quadrature {
 };
 Quadrature referenceRadiance(const Material& material, const glm::vec3& wo, int theta_steps);
 
+// The sampler's quality alone, without the environment: the relative variance per sample of the
+// luminance of f cos / pdf (the sample's weight; a draw with no direction counts 0), over `count`
+// draws from stream `seed`. 0 for a sampler proportional to f cos; what lost draws cost shows too.
+double fcosRelativeVariance(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
+
 // drawDirection per second on one thread over `count` draws.
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
 // The same draws through the stream call (BinnedSampler::sampleDirections, blocks of 256).

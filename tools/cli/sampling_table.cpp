@@ -1,5 +1,6 @@
 #include "sampling_table.h"
 
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -13,8 +14,16 @@ const std::vector<std::string>& samplingCsvColumns() {
                                                    "samples_per_s", "chi2_statistic", "chi2_p", "variance",
                                                    "seconds", "efficiency", "rel_error_vs_reference",
                                                    "per_sample_variance", "full_cdf_bytes", "acceptance_rate",
-                                                   "stream_samples_per_s"};
+                                                   "stream_samples_per_s", "theta_o_deg", "parameterization",
+                                                   "fcos_rel_variance", "efficiency_vs_own",
+                                                   "stream_efficiency_vs_own"};
   return columns;
+}
+
+std::string SamplingRow::group() const {
+  char theta[32];
+  std::snprintf(theta, sizeof theta, " %g deg", theta_o_deg);
+  return material + theta + (parameterization.empty() ? "" : " " + parameterization);
 }
 
 void writeSamplingCsv(const std::filesystem::path& path, const std::vector<SamplingRow>& rows) {
@@ -38,6 +47,10 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       optional(r.acceptance_rate);
       out << ',';
       optional(r.stream_samples_per_s);
+      out << ',' << r.theta_o_deg << ',' << r.parameterization << ',' << r.fcos_rel_variance << ',';
+      optional(r.efficiency_vs_own);
+      out << ',';
+      optional(r.stream_efficiency_vs_own);
       out << '\n';
     }
   });

@@ -1,8 +1,13 @@
-// The rows of `btf bench sampling` and their CSV file (sampling.csv): one row per material and
-// sampler setting, columns
+// The rows of `btf bench sampling` and their CSV file (sampling.csv): one row per material, sampler
+// setting and view theta_o, columns
 //   material, sampler, parameter, bytes, samples_per_s, chi2_statistic, chi2_p, variance, seconds,
 //   efficiency, rel_error_vs_reference, per_sample_variance, full_cdf_bytes, acceptance_rate,
-//   stream_samples_per_s (the tabulated samplers' stream call, sampleDirections; empty for others)
+//   stream_samples_per_s (the tabulated samplers' stream call, sampleDirections; empty for others),
+//   theta_o_deg, parameterization (incident or half for the tabulated samplers, empty for others),
+//   fcos_rel_variance (fcosRelativeVariance: the sampler's quality without the environment),
+//   efficiency_vs_own (efficiency / the material's own sampler's at the same theta_o),
+//   stream_efficiency_vs_own (the same with the stream call's time per draw, which returns the
+//   direction and its pdf but not the weight, against the own sampler's sample(), which does)
 // rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);
 // full_cdf_bytes (the float CDFs of the full grid, for memory ratios) is empty for warps and a
 // material's own sampler; acceptance_rate is the quadtree's mean per-proposal acceptance over its
@@ -30,6 +35,12 @@ struct SamplingRow {
   double per_sample_variance = 0;
   std::optional<double> full_cdf_bytes;
   std::optional<double> acceptance_rate;
+  double theta_o_deg = 0;
+  std::string parameterization;
+  double fcos_rel_variance = 0;
+  std::optional<double> efficiency_vs_own, stream_efficiency_vs_own;
+  // material, theta_o and parameterization: the rows the summaries compare with each other.
+  std::string group() const;
 };
 
 // The column names, in order.
