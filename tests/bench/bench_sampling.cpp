@@ -7,7 +7,9 @@
 // (wi, wo) pair (the MIS side of a renderer) and "full" = Material::sample + pdf (adds the eval()
 // for the weight, dominated by the table lookup). Single-threaded; wo and u are drawn before timing.
 // Counters: bytes of the sampler's tables, the full-CDF bytes of the same grid, and for the
-// quadtree the mean acceptance rate.
+// quadtree the mean acceptance rate; the label is the parameterization in use. The samplers take
+// the default options (parameterization Auto) unless the name ends in _incident or _half, which
+// fix it: the DP sampler's loops run once per parameterization, to compare the two maps' costs.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -30,9 +32,11 @@ struct Query {
   glm::vec2 u;
 };
 
-// The MERL table's theta_o resolution (90 bins) with a 64 x 128 incoming grid per bin.
-btf::SamplerOptions merlSizeOptions(float epsilon) {
+// The MERL table's theta_o resolution (90 bins) with a 64 x 128 incoming grid per bin (Incident;
+// Half has the default 128 x 128 cells of the half-vector square).
+btf::SamplerOptions merlSizeOptions(float epsilon, btf::Parameterization parameterization) {
   btf::SamplerOptions o;
+  o.parameterization = parameterization;
   o.theta_o_bins = 90;
   o.cos_theta_bins = 64;
   o.phi_bins = 128;
@@ -62,6 +66,7 @@ void report(benchmark::State& state, const btf::BinnedSampler& s) {
   state.SetItemsProcessed(std::int64_t(state.iterations()));
   state.counters["bytes"] = double(st.bytes);
   state.counters["full_cdf_bytes"] = double(st.full_cdf_bytes);
+  state.SetLabel(st.parameterization);
   if (s.kind() == btf::SamplerKind::Quadtree) state.counters["acceptance"] = st.acceptance_rate;
 }
 
@@ -160,36 +165,38 @@ void runStream(benchmark::State& state, const btf::BinnedSampler& s, bool with_p
   state.SetItemsProcessed(std::int64_t(state.iterations() * kStreamBlock));
 }
 
-// Samplers are built on first use (the MERL-size ones take a second or two each).
-const btf::BinnedSampler& sampler(btf::SamplerKind kind, bool merl, float epsilon) {
-  static std::vector<std::pair<std::tuple<int, bool, float>, std::unique_ptr<btf::BinnedSampler>>> cache;
-  const auto key = std::make_tuple(int(kind), merl, epsilon);
+// Samplers are built on first use (the MERL-size ones take a second or two each, Auto about twice that).
+using P = btf::Parameterization;
+const btf::BinnedSampler& sampler(btf::SamplerKind kind, bool merl, float epsilon, P parameterization = P::Auto) {
+  static std::vector<std::pair<std::tuple<int, bool, float, int>, std::unique_ptr<btf::BinnedSampler>>> cache;
+  const auto key = std::make_tuple(int(kind), merl, epsilon, int(parameterization));
   for (auto& [k, s] : cache)
     if (k == key) return *s;
-  cache.emplace_back(key, btf::makeSampler(kind, merl ? fixture().merl : fixture().ggx, merlSizeOptions(epsilon)));
+  cache.emplace_back(key, btf::makeSampler(kind, merl ? fixture().merl : fixture().ggx,
+                                           merlSizeOptions(epsilon, parameterization)));
   return *cache.back().second;
 }
 
-void BM_Direction(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runDirection(state, sampler(kind, merl, epsilon));
+void BM_Direction(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runDirection(state, sampler(kind, merl, epsilon, p));
 }
-void BM_DirectionOnly(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runDirectionOnly(state, sampler(kind, merl, epsilon));
+void BM_DirectionOnly(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runDirectionOnly(state, sampler(kind, merl, epsilon, p));
 }
-void BM_DirectionOneWo(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runDirectionOneWo(state, sampler(kind, merl, epsilon));
+void BM_DirectionOneWo(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runDirectionOneWo(state, sampler(kind, merl, epsilon, p));
 }
-void BM_PdfOnly(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runPdfOnly(state, sampler(kind, merl, epsilon));
+void BM_PdfOnly(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runPdfOnly(state, sampler(kind, merl, epsilon, p));
 }
-void BM_Stream(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runStream(state, sampler(kind, merl, epsilon), true);
+void BM_Stream(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runStream(state, sampler(kind, merl, epsilon, p), true);
 }
-void BM_StreamDirection(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runStream(state, sampler(kind, merl, epsilon), false);
+void BM_StreamDirection(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runStream(state, sampler(kind, merl, epsilon, p), false);
 }
-void BM_Full(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon) {
-  runFull(state, sampler(kind, merl, epsilon));
+void BM_Full(benchmark::State& state, btf::SamplerKind kind, bool merl, float epsilon, P p = P::Auto) {
+  runFull(state, sampler(kind, merl, epsilon, p));
 }
 
 using K = btf::SamplerKind;
@@ -210,6 +217,18 @@ BENCHMARK_CAPTURE(BM_Stream, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, merl_tabulated, K::Tabulated, true, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, merl_dp_eps1e-3, K::DpCdf, true, 1e-3f);
 BENCHMARK_CAPTURE(BM_Full, merl_quadtree, K::Quadtree, true, 0.0f);
+// The DP sampler's single queries and stream calls per parameterization (Half: the vector path
+// reflects about the half vector and runs pdf()'s path for every draw).
+BENCHMARK_CAPTURE(BM_Direction, merl_dp_eps1e-3_incident, K::DpCdf, true, 1e-3f, P::Incident);
+BENCHMARK_CAPTURE(BM_Direction, merl_dp_eps1e-3_half, K::DpCdf, true, 1e-3f, P::Half);
+BENCHMARK_CAPTURE(BM_DirectionOnly, merl_dp_eps1e-3_incident, K::DpCdf, true, 1e-3f, P::Incident);
+BENCHMARK_CAPTURE(BM_DirectionOnly, merl_dp_eps1e-3_half, K::DpCdf, true, 1e-3f, P::Half);
+BENCHMARK_CAPTURE(BM_PdfOnly, merl_dp_eps1e-3_incident, K::DpCdf, true, 1e-3f, P::Incident);
+BENCHMARK_CAPTURE(BM_PdfOnly, merl_dp_eps1e-3_half, K::DpCdf, true, 1e-3f, P::Half);
+BENCHMARK_CAPTURE(BM_Stream, merl_dp_eps1e-3_incident, K::DpCdf, true, 1e-3f, P::Incident);
+BENCHMARK_CAPTURE(BM_Stream, merl_dp_eps1e-3_half, K::DpCdf, true, 1e-3f, P::Half);
+BENCHMARK_CAPTURE(BM_StreamDirection, merl_dp_eps1e-3_incident, K::DpCdf, true, 1e-3f, P::Incident);
+BENCHMARK_CAPTURE(BM_StreamDirection, merl_dp_eps1e-3_half, K::DpCdf, true, 1e-3f, P::Half);
 BENCHMARK_CAPTURE(BM_Direction, ggx_dp_eps1e-3, K::DpCdf, false, 1e-3f);
 BENCHMARK_CAPTURE(BM_Direction, ggx_quadtree, K::Quadtree, false, 0.0f);
 BENCHMARK_CAPTURE(BM_Full, ggx_dp_eps1e-3, K::DpCdf, false, 1e-3f);

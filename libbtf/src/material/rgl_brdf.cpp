@@ -95,12 +95,12 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 }
 
 Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, float theta_o) const {
+  float channels[3];
+  const float leading[1] = {theta_o};
+  rgb_.evalAtEveryLastValue(s, leading, channels);
   Rgb f;
-  for (int c = 0; c < 3; ++c) {
-    const float params[2] = {theta_o, static_cast<float>(c)};
-    // Negative values are spectral data outside the RGB gamut; the reference loader clips them.
-    f[c] = std::max(rgb_.eval(s, params), 0.0f);
-  }
+  // Negative values are spectral data outside the RGB gamut; the reference loader clips them.
+  for (int c = 0; c < 3; ++c) f[c] = std::max(channels[c], 0.0f);
   if (jacobian_) f *= ndf_.eval(u_m) / (4.0f * sigma_.eval(u_o));
   return f;
 }

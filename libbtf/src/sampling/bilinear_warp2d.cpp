@@ -207,4 +207,28 @@ float BilinearWarp2D::eval(glm::vec2 p, std::span<const float> params) const {
   return lerp(v0, v1, ty);
 }
 
+void BilinearWarp2D::evalAtEveryLastValue(glm::vec2 p, std::span<const float> leading, std::span<float> out) const {
+  if (param_values_.empty() || leading.size() + 1 != param_values_.size() || out.size() != param_values_.back().size())
+    throw Error("bilinear warp: evalAtEveryLastValue needs the leading parameters and one output per last value");
+  // The blend at the last parameter's first value: that dimension then splits nothing (its weight
+  // is exactly 1, as it is at any tabulated value), and value k is k slices of it further on.
+  std::array<float, kMaxParams> params{};
+  std::copy(leading.begin(), leading.end(), params.begin());
+  params[leading.size()] = param_values_.back().front();
+  const SliceBlend first = blendFor(std::span<const float>(params.data(), param_values_.size()));
+  p = glm::clamp(p, 0.0f, 1.0f);
+  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
+  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
+  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
+  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
+  const std::size_t i00 = static_cast<std::size_t>(row) * width_ + col, i01 = i00 + width_;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    SliceBlend blend = first;
+    for (int j = 0; j < blend.count; ++j) blend.slice[j] += static_cast<std::uint32_t>(k) * param_strides_[param_values_.size() - 1];
+    const float v0 = lerp(blended(values_, slice_size, i00, blend), blended(values_, slice_size, i00 + 1, blend), tx);
+    const float v1 = lerp(blended(values_, slice_size, i01, blend), blended(values_, slice_size, i01 + 1, blend), tx);
+    out[k] = lerp(v0, v1, ty);
+  }
+}
+
 }  // namespace btf

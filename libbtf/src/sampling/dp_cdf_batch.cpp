@@ -5,9 +5,18 @@
 // arithmetic has to be the scalar path's, operation for operation, so that a query gives the same
 // bits on every CPU (and sample's pdf stays pdf()'s). The functions are compiled for "avx2" alone,
 // not "fma": with FMA enabled the compiler would fuse a multiply and an add into one rounding.
-// Each step below names the scalar code it mirrors (binned_sampler.h, dp_cdf_sampler.cpp).
+// Each step below names the scalar code it mirrors (binned_sampler.h, parameterization.h,
+// dp_cdf_sampler.cpp, core/fast_trig.h, core/fast_atan.h), down to the order of the operands of
+// a sum and to what std::min / std::max / std::clamp return for NaN or for -0 against +0; scalar
+// branches become selects (both sides computed, a side not taken may divide by 0 harmlessly).
 // The searches bisect all the way down to one entry (the scalar path stops at 32 and compares a
 // block): both count the entries <= the key, so they find the same segment.
+// Both parameterizations. Incident draws take the pdf from the segments just drawn (the scalar
+// pdf() for lanes near a cell border), as sampleImpl does. Half draws follow pdf()'s path in the
+// lanes, as sampleImpl does (wi back onto the square through its half vector, the Jacobian), up
+// to pdfImpl's searches: where wi's square point lies in the drawn row and segments, those
+// searches would find the drawn segments, so the lanes take them (the rare others take the
+// scalar pdf).
 #include <immintrin.h>
 
 #include <algorithm>
@@ -149,13 +158,31 @@ BTF_AVX2 inline Segment segmentAt(const Tables& t, __m256i start, __m256i k, __m
   return {qa, _mm256_sub_ps(qb, qa), _mm256_cvtepi32_ps(xa), _mm256_cvtepi32_ps(_mm256_sub_epi32(xb, xa))};
 }
 
+// std::min(a, b) and std::max(a, b) of floats. libstdc++ computes them as b < a ? b : a and
+// a < b ? b : a; MINPS / MAXPS return their second operand when the compare fails (a NaN, or
+// equal values such as -0 and +0), so the operands go in swapped: minps(b, a) = b < a ? b : a.
+BTF_AVX2 inline __m256 stdMin(__m256 a, __m256 b) { return _mm256_min_ps(b, a); }
+BTF_AVX2 inline __m256 stdMax(__m256 a, __m256 b) { return _mm256_max_ps(b, a); }
+// std::clamp(v, lo, hi), which libstdc++ computes as std::min(std::max(v, lo), hi) (a NaN stays NaN).
+BTF_AVX2 inline __m256 stdClamp(__m256 v, float lo, float hi) {
+  return stdMin(stdMax(v, _mm256_set1_ps(lo)), _mm256_set1_ps(hi));
+}
+// std::abs(float) clears the sign bit; unary minus flips it.
+BTF_AVX2 inline __m256 stdAbs(__m256 v) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), v); }
+BTF_AVX2 inline __m256 flipSign(__m256 v) { return _mm256_xor_ps(v, _mm256_set1_ps(-0.0f)); }
+// x op v as a scalar comparison: an ordered predicate (false for NaN) for <, <=, >, >=, ==.
+template <int kOp>
+BTF_AVX2 inline __m256 compare(__m256 x, float v) {
+  return _mm256_cmp_ps(x, _mm256_set1_ps(v), kOp);
+}
+
 // invert: the position in grid units, below the segment's end node.
 BTF_AVX2 inline __m256 invert(const Segment& s, __m256 uq) {
   const __m256 t = _mm256_div_ps(_mm256_sub_ps(uq, s.q0), s.dq);
   const __m256 g = _mm256_add_ps(s.x0, _mm256_mul_ps(t, s.dx));
   const __m256 end = _mm256_add_ps(s.x0, s.dx);
   const __m256 below = _mm256_castsi256_ps(_mm256_sub_epi32(_mm256_castps_si256(end), _mm256_set1_epi32(1)));
-  return _mm256_min_ps(g, below);
+  return stdMin(g, below);
 }
 
 // wellInside.
@@ -163,6 +190,16 @@ BTF_AVX2 inline __m256 wellInside(__m256 g, float margin) {
   const __m256 frac = _mm256_sub_ps(g, _mm256_cvtepi32_ps(_mm256_cvttps_epi32(g)));
   return _mm256_and_ps(_mm256_cmp_ps(frac, _mm256_set1_ps(margin), _CMP_GE_OQ),
                        _mm256_cmp_ps(frac, _mm256_set1_ps(1.0f - margin), _CMP_LE_OQ));
+}
+
+// pdfOf: (dq_s / dx_s) (dq_t / dx_t) scale.
+BTF_AVX2 inline __m256 pdfOf(const Segment& s, const Segment& t, float scale) {
+  return _mm256_mul_ps(_mm256_mul_ps(_mm256_div_ps(s.dq, s.dx), _mm256_div_ps(t.dq, t.dx)), _mm256_set1_ps(scale));
+}
+
+// Whether the grid cell `cell` (a float of an int) lies in the segment: x0 <= cell < x0 + dx.
+BTF_AVX2 inline __m256 inSegment(const Segment& s, __m256 cell) {
+  return _mm256_and_ps(_mm256_cmp_ps(cell, s.x0, _CMP_GE_OQ), _mm256_cmp_ps(cell, _mm256_add_ps(s.x0, s.dx), _CMP_LT_OQ));
 }
 
 BTF_AVX2 inline __m256 mul(__m256 x, __m256 y) { return _mm256_mul_ps(x, y); }
@@ -195,10 +232,9 @@ BTF_AVX2 inline void cosSinTurns(__m256 t, __m256& c, __m256& s) {
       _mm256_xor_si256(_mm256_or_si256(_mm256_andnot_si256(swap, sb), _mm256_and_si256(cb, swap)), negate));
 }
 
-// fastAtan2Turns.
+// fastAtan2Turns (core/fast_atan.h).
 BTF_AVX2 inline __m256 atan2Turns(__m256 y, __m256 x) {
-  const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-  const __m256 ax = _mm256_and_ps(x, abs_mask), ay = _mm256_and_ps(y, abs_mask);
+  const __m256 ax = stdAbs(x), ay = stdAbs(y);
   const __m256 x_wider = _mm256_cmp_ps(ax, ay, _CMP_GT_OQ);
   const __m256 hi = select(ay, ax, x_wider), lo = select(ax, ay, x_wider);
   const __m256 a = _mm256_div_ps(lo, hi), z = _mm256_mul_ps(a, a), z2 = _mm256_mul_ps(z, z), z4 = _mm256_mul_ps(z2, z2);
@@ -211,19 +247,186 @@ BTF_AVX2 inline __m256 atan2Turns(__m256 y, __m256 x) {
   r = select(r, _mm256_sub_ps(_mm256_set1_ps(0.25f), r), _mm256_cmp_ps(ay, ax, _CMP_GT_OQ));
   r = select(r, _mm256_sub_ps(_mm256_set1_ps(0.5f), r), _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_LT_OQ));
   r = _mm256_xor_ps(r, _mm256_and_ps(_mm256_cmp_ps(y, _mm256_setzero_ps(), _CMP_LT_OQ), _mm256_set1_ps(-0.0f)));
-  return _mm256_and_ps(r, _mm256_cmp_ps(hi, _mm256_setzero_ps(), _CMP_GT_OQ));  // hi == 0: 0
+  return _mm256_and_ps(r, _mm256_cmp_ps(hi, _mm256_setzero_ps(), _CMP_GT_OQ));  // !(hi > 0) (NaN y too): 0
 }
 
-// query(wo) for an isotropic sampler: the rotation by -phi_o.
-BTF_AVX2 inline void binRotation(__m256 x, __m256 y, __m256& c, __m256& s) {
+// A glm::vec3 per lane, and glm's operations on it in glm's order.
+struct Vec3 {
+  __m256 x, y, z;
+};
+BTF_AVX2 inline Vec3 loadVec3(const float* x, const float* y, const float* z) {
+  return {_mm256_load_ps(x), _mm256_load_ps(y), _mm256_load_ps(z)};
+}
+// glm::dot for vec3: the products, then (x + y) + z.
+BTF_AVX2 inline __m256 dot(const Vec3& a, const Vec3& b) {
+  return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a.x, b.x), _mm256_mul_ps(a.y, b.y)), _mm256_mul_ps(a.z, b.z));
+}
+// glm::normalize: v * inversesqrt(dot(v, v)), and glm's inversesqrt(x) is 1 / sqrt(x) (a division,
+// not an approximate reciprocal square root).
+BTF_AVX2 inline Vec3 normalize(const Vec3& v) {
+  const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(dot(v, v)));
+  return {_mm256_mul_ps(v.x, inv), _mm256_mul_ps(v.y, inv), _mm256_mul_ps(v.z, inv)};
+}
+
+// query(wo) for an isotropic sampler: the rotation by -phi_o (BinQuery's cos_phi, sin_phi), and
+// BinQuery's toBinFrame / fromBinFrame.
+struct Rotation {
+  __m256 c, s;
+  // {cos_phi x + sin_phi y, -sin_phi x + cos_phi y, z}
+  BTF_AVX2 Vec3 toBinFrame(const Vec3& w) const {
+    return {_mm256_add_ps(_mm256_mul_ps(c, w.x), _mm256_mul_ps(s, w.y)),
+            _mm256_add_ps(_mm256_mul_ps(flipSign(s), w.x), _mm256_mul_ps(c, w.y)), w.z};
+  }
+  // {cos_phi x - sin_phi y, sin_phi x + cos_phi y, z}
+  BTF_AVX2 Vec3 fromBinFrame(const Vec3& w) const {
+    return {_mm256_sub_ps(_mm256_mul_ps(c, w.x), _mm256_mul_ps(s, w.y)),
+            _mm256_add_ps(_mm256_mul_ps(s, w.x), _mm256_mul_ps(c, w.y)), w.z};
+  }
+};
+BTF_AVX2 inline Rotation binRotation(__m256 x, __m256 y) {
   const __m256 r2 = _mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y));
   const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(r2));
-  const __m256 off_pole = _mm256_cmp_ps(r2, _mm256_setzero_ps(), _CMP_GT_OQ);
-  c = select(_mm256_set1_ps(1.0f), _mm256_mul_ps(x, inv), off_pole);
-  s = _mm256_and_ps(_mm256_mul_ps(y, inv), off_pole);
+  const __m256 off_pole = _mm256_cmp_ps(r2, _mm256_setzero_ps(), _CMP_GT_OQ);  // else the identity
+  return {select(_mm256_set1_ps(1.0f), _mm256_mul_ps(x, inv), off_pole), _mm256_and_ps(_mm256_mul_ps(y, inv), off_pole)};
 }
 
-// Returns the lanes whose pdf must come from the scalar pdf() (draw too close to a cell border).
+// squareToDirection (Incident).
+BTF_AVX2 inline Vec3 squareToDirection(__m256 s, __m256 t) {
+  const __m256 r = _mm256_sqrt_ps(stdMax(_mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(s, s)), _mm256_setzero_ps()));
+  __m256 c, sn;
+  cosSinTurns(t, c, sn);
+  return {_mm256_mul_ps(r, c), _mm256_mul_ps(r, sn), s};
+}
+
+// squareToHalfVector (parameterization.h). Its three branches become selects: every lane computes
+// both radii and turns (the one not taken may divide by 0, harmlessly), and the square's centre
+// (|a| > |b| false and b == 0) gets the pole.
+BTF_AVX2 inline Vec3 squareToHalfVector(__m256 s, __m256 t) {
+  const __m256 one = _mm256_set1_ps(1.0f), two = _mm256_set1_ps(2.0f), eight = _mm256_set1_ps(8.0f);
+  const __m256 a = _mm256_sub_ps(_mm256_mul_ps(two, s), one), b = _mm256_sub_ps(_mm256_mul_ps(two, t), one);
+  const __m256 a_wider = _mm256_cmp_ps(stdAbs(a), stdAbs(b), _CMP_GT_OQ);
+  const __m256 r = select(b, a, a_wider);
+  const __m256 turns = select(_mm256_sub_ps(_mm256_set1_ps(0.25f), _mm256_div_ps(a, _mm256_mul_ps(eight, b))),
+                              _mm256_div_ps(b, _mm256_mul_ps(eight, a)), a_wider);
+  const __m256 centre = _mm256_andnot_ps(a_wider, _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_EQ_OQ));  // !(b != 0)
+  __m256 c, sn;
+  cosSinTurns(turns, c, sn);
+  const __m256 rho = _mm256_mul_ps(r, stdAbs(r));
+  const __m256 rho2 = _mm256_mul_ps(rho, rho);
+  const __m256 k = _mm256_mul_ps(rho, _mm256_sqrt_ps(stdMax(_mm256_sub_ps(two, rho2), _mm256_setzero_ps())));
+  return {_mm256_andnot_ps(centre, _mm256_mul_ps(k, c)), _mm256_andnot_ps(centre, _mm256_mul_ps(k, sn)),
+          select(_mm256_sub_ps(one, rho2), one, centre)};
+}
+
+// halfVectorToSquare (parameterization.h): (s, t) and the concentric radius r. The octant's four
+// branches become selects applied in reverse order of the if-chain, so that the first branch whose
+// test holds wins; a NaN turns fails every test and takes the last branch, as in the scalar code.
+struct HalfSquare {
+  __m256 s, t, r;
+};
+BTF_AVX2 inline HalfSquare halfVectorToSquare(const Vec3& h) {
+  const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), two = _mm256_set1_ps(2.0f),
+               eight = _mm256_set1_ps(8.0f);
+  const __m256 rho2 = _mm256_add_ps(_mm256_mul_ps(h.x, h.x), _mm256_mul_ps(h.y, h.y));
+  const __m256 r = _mm256_sqrt_ps(_mm256_sqrt_ps(_mm256_div_ps(rho2, _mm256_add_ps(one, stdMax(h.z, _mm256_setzero_ps())))));
+  const __m256 turns = atan2Turns(h.y, h.x);
+  // else: shifted = turns + 0.5, b = -r, a = b (2 - 8 shifted).
+  __m256 b = flipSign(r);
+  __m256 a = _mm256_mul_ps(b, _mm256_sub_ps(two, _mm256_mul_ps(eight, _mm256_add_ps(turns, half))));
+  // turns >= 3/8 || turns <= -3/8: shifted = turns > 0 ? turns - 0.5 : turns + 0.5, a = -r, b = a (8 shifted).
+  const __m256 shifted = select(_mm256_add_ps(turns, half), _mm256_sub_ps(turns, half), compare<_CMP_GT_OQ>(turns, 0.0f));
+  const __m256 third = _mm256_or_ps(compare<_CMP_GE_OQ>(turns, 0.375f), compare<_CMP_LE_OQ>(turns, -0.375f));
+  a = select(a, flipSign(r), third);
+  b = select(b, _mm256_mul_ps(flipSign(r), _mm256_mul_ps(eight, shifted)), third);
+  // 1/8 < turns < 3/8: b = r, a = r (2 - 8 turns).
+  const __m256 second = _mm256_and_ps(compare<_CMP_GT_OQ>(turns, 0.125f), compare<_CMP_LT_OQ>(turns, 0.375f));
+  a = select(a, _mm256_mul_ps(r, _mm256_sub_ps(two, _mm256_mul_ps(eight, turns))), second);
+  b = select(b, r, second);
+  // -1/8 <= turns <= 1/8: a = r, b = r (8 turns).
+  const __m256 first = _mm256_and_ps(compare<_CMP_GE_OQ>(turns, -0.125f), compare<_CMP_LE_OQ>(turns, 0.125f));
+  a = select(a, r, first);
+  b = select(b, _mm256_mul_ps(r, _mm256_mul_ps(eight, turns)), first);
+  return {stdClamp(_mm256_mul_ps(half, _mm256_add_ps(a, one)), 0.0f, 1.0f),
+          stdClamp(_mm256_mul_ps(half, _mm256_add_ps(b, one)), 0.0f, 1.0f), r};
+}
+
+// Where pdfQuery takes each lane's wi on the square: the point (s, t), whether it gets there at
+// all (else its pdf is 0: wi.z <= 0, outside the square, NaN) and, for Half, the factor it applies
+// to pdfImpl's value (kTwoPi * to_solid_angle).
+struct SquareLanes {
+  __m256 s, t, ok, factor;
+};
+
+// incomingToSquare (Incident) behind pdfQuery's wi.z > 0 (wi_bin.z is wi.z): directionToSquare,
+// nothing unless s < 1.
+BTF_AVX2 inline SquareLanes incidentToSquare(const Vec3& wi_bin) {
+  const __m256 phi = atan2Turns(wi_bin.y, wi_bin.x);
+  // The wrap into [0, 1): t + 1, and exactly 1 becomes the float below it.
+  const __m256 sum = _mm256_add_ps(phi, _mm256_set1_ps(1.0f));
+  const __m256i at_one = _mm256_castps_si256(_mm256_cmp_ps(sum, _mm256_set1_ps(1.0f), _CMP_GE_OQ));
+  const __m256 wrapped = _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(sum), at_one));
+  const __m256 t = select(phi, wrapped, _mm256_cmp_ps(phi, _mm256_setzero_ps(), _CMP_LT_OQ));
+  const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(wi_bin.z, _mm256_setzero_ps(), _CMP_GT_OQ),
+                                  _mm256_cmp_ps(wi_bin.z, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
+  return {wi_bin.z, t, ok, _mm256_set1_ps(1.0f)};
+}
+
+// incomingToSquare (Half) behind pdfQuery's wi.z > 0: h = normalize(wi + wo), d = wo.h, the
+// square point of h, the Jacobian (16 pi) (r r) d, nothing unless it is > 0 and s, t >= 0; the
+// factor kTwoPi * (1 / jacobian).
+BTF_AVX2 inline SquareLanes halfToSquare(const Vec3& wi_bin, const Vec3& wo_bin) {
+  const Vec3 h = normalize({_mm256_add_ps(wi_bin.x, wo_bin.x), _mm256_add_ps(wi_bin.y, wo_bin.y),
+                            _mm256_add_ps(wi_bin.z, wo_bin.z)});
+  const __m256 d = dot(wo_bin, h);
+  const HalfSquare m = halfVectorToSquare(h);
+  const __m256 jacobian = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(16.0f * kPi), _mm256_mul_ps(m.r, m.r)), d);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 ok = _mm256_and_ps(
+      _mm256_and_ps(_mm256_cmp_ps(wi_bin.z, zero, _CMP_GT_OQ), _mm256_cmp_ps(jacobian, zero, _CMP_GT_OQ)),
+      _mm256_and_ps(_mm256_cmp_ps(m.s, zero, _CMP_GE_OQ), _mm256_cmp_ps(m.t, zero, _CMP_GE_OQ)));
+  const __m256 to_solid_angle = _mm256_div_ps(_mm256_set1_ps(1.0f), jacobian);
+  return {m.s, m.t, ok, _mm256_mul_ps(_mm256_set1_ps(kTwoPi), to_solid_angle)};
+}
+
+// pdfImpl at each lane's square point, times the factor for Half (pdfQuery); lanes that are not
+// ok search row and column 0 and get 0.
+template <bool kHalf>
+BTF_AVX2 inline void pdfOfSquare(const Tables& t, const __m256i (&bin)[kVectors], const SquareLanes (&sq)[kVectors],
+                                 __m256 (&pdf)[kVectors]) {
+  constexpr int V = kVectors;
+  const __m256i one = _mm256_set1_epi32(1);
+  const int* starts = reinterpret_cast<const int*>(t.starts);
+  __m256i ms[V], ns[V], mt[V], nt[V], row[V], col[V], ks[V], kt[V], n[V];
+  for (int j = 0; j < V; ++j) {
+    const __m256i keep = _mm256_castps_si256(sq[j].ok);
+    row[j] = _mm256_and_si256(keep, _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(sq[j].s, _mm256_set1_ps(float(t.nu)))),
+                                                     _mm256_set1_epi32(t.nu - 1)));
+    col[j] = _mm256_and_si256(keep, _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(sq[j].t, _mm256_set1_ps(float(t.nv)))),
+                                                     _mm256_set1_epi32(t.nv - 1)));
+    const __m256i bin_base = _mm256_mullo_epi32(bin[j], _mm256_set1_epi32(t.nu + 1));
+    ms[j] = _mm256_i32gather_epi32(starts, bin_base, 4);
+    ns[j] = _mm256_sub_epi32(_mm256_i32gather_epi32(starts, _mm256_add_epi32(bin_base, one), 4), ms[j]);
+    const __m256i row_index = _mm256_add_epi32(bin_base, _mm256_add_epi32(row[j], one));
+    mt[j] = _mm256_i32gather_epi32(starts, row_index, 4);
+    nt[j] = _mm256_sub_epi32(_mm256_i32gather_epi32(starts, _mm256_add_epi32(row_index, one), 4), mt[j]);
+  }
+  for (int j = 0; j < V; ++j) n[j] = ns[j];
+  countLe(NodeGather{t.nodes16, t.nodes8}, ms, n, row, t.steps, ks);
+  for (int j = 0; j < V; ++j) n[j] = nt[j];
+  countLe(NodeGather{t.nodes16, t.nodes8}, mt, n, col, t.steps, kt);
+  for (int j = 0; j < V; ++j) {
+    const Segment seg_s = segmentAt(t, ms[j], ks[j], ns[j], t.nu);
+    const Segment seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
+    __m256 p = pdfOf(seg_s, seg_t, t.pdf_scale);
+    if constexpr (kHalf) p = _mm256_mul_ps(p, sq[j].factor);
+    pdf[j] = _mm256_and_ps(p, sq[j].ok);
+  }
+}
+
+// sampleImpl for u = (a0, a1). Returns the lanes whose pdf must come from the scalar pdf(): an
+// Incident draw too close to a cell border, a Half draw whose round trip through wi left its cell.
+// A lane without a sample (Half: its reflection below the horizon, or pdf() 0) gets pdf 0.
+template <bool kHalf>
 BTF_AVX2 std::uint64_t sampleLanes(const Tables& t, Lanes& l) {
   constexpr int V = kVectors;
   const __m256i one = _mm256_set1_epi32(1);
@@ -248,13 +451,14 @@ BTF_AVX2 std::uint64_t sampleLanes(const Tables& t, Lanes& l) {
   countLe(KeyGather{t.keys}, ms, n, key, t.steps, ks);
   Segment seg_s[V];
   __m256 gs[V], s[V];
+  __m256i row[V];
   for (int j = 0; j < V; ++j) {
     seg_s[j] = segmentAt(t, ms[j], ks[j], ns[j], t.nu);
     gs[j] = invert(seg_s[j], us[j]);
     s[j] = _mm256_div_ps(gs[j], fnu);
-    const __m256i row = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(s[j], fnu)), _mm256_set1_epi32(t.nu - 1));
+    row[j] = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(s[j], fnu)), _mm256_set1_epi32(t.nu - 1));
     // The row's conditional.
-    const __m256i row_index = _mm256_add_epi32(bin_base[j], _mm256_add_epi32(row, one));
+    const __m256i row_index = _mm256_add_epi32(bin_base[j], _mm256_add_epi32(row[j], one));
     mt[j] = _mm256_i32gather_epi32(starts, row_index, 4);
     nt[j] = _mm256_sub_epi32(_mm256_i32gather_epi32(starts, _mm256_add_epi32(row_index, one), 4), mt[j]);
     key[j] = _mm256_cvttps_epi32(ut[j]);
@@ -266,83 +470,78 @@ BTF_AVX2 std::uint64_t sampleLanes(const Tables& t, Lanes& l) {
     const Segment seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
     const __m256 gt = invert(seg_t, ut[j]);
     const __m256 tt = _mm256_div_ps(gt, fnv);
-    // squareToDirection, fromBinFrame, normalize.
-    __m256 cos_phi, sin_phi;
-    binRotation(_mm256_load_ps(l.ox + 8 * j), _mm256_load_ps(l.oy + 8 * j), cos_phi, sin_phi);
-    const __m256 r =
-        _mm256_sqrt_ps(_mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(s[j], s[j])), _mm256_setzero_ps()));
-    __m256 c, sn;
-    cosSinTurns(tt, c, sn);
-    const __m256 bx = _mm256_mul_ps(r, c), by = _mm256_mul_ps(r, sn);
-    const __m256 x = _mm256_sub_ps(_mm256_mul_ps(cos_phi, bx), _mm256_mul_ps(sin_phi, by));
-    const __m256 y = _mm256_add_ps(_mm256_mul_ps(sin_phi, bx), _mm256_mul_ps(cos_phi, by));
-    const __m256 len2 =
-        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y)), _mm256_mul_ps(s[j], s[j]));
-    const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(len2));
-    _mm256_store_ps(l.wx + 8 * j, _mm256_mul_ps(x, inv));
-    _mm256_store_ps(l.wy + 8 * j, _mm256_mul_ps(y, inv));
-    _mm256_store_ps(l.wz + 8 * j, _mm256_mul_ps(s[j], inv));
-    // pdfOf from the segments just drawn.
-    const __m256 p = _mm256_mul_ps(
-        _mm256_mul_ps(_mm256_div_ps(seg_s[j].dq, seg_s[j].dx), _mm256_div_ps(seg_t.dq, seg_t.dx)),
-        _mm256_set1_ps(t.pdf_scale));
-    _mm256_store_ps(l.pdf + 8 * j, p);
-    const __m256 inside = _mm256_and_ps(wellInside(gs[j], DpCdfSampler::kCellMargin * float(t.nu)),
-                                        wellInside(gt, DpCdfSampler::kCellMargin * float(t.nv)));
-    near_border |= std::uint64_t(~_mm256_movemask_ps(inside) & 0xff) << (8 * j);
+    const Vec3 wo = loadVec3(l.ox + 8 * j, l.oy + 8 * j, l.oz + 8 * j);
+    const Rotation rot = binRotation(wo.x, wo.y);
+    if constexpr (kHalf) {
+      // squareToIncoming (Half): h, d = wo.h with the query's wo in the bin frame (BinQuery::wo),
+      // wi = (2 d) h - wo, nothing unless d > 0 and wi.z > 0, normalize; then fromBinFrame and
+      // normalize.
+      const Vec3 wo_bin = rot.toBinFrame(wo);
+      const Vec3 h = squareToHalfVector(s[j], tt);
+      const __m256 d = dot(wo_bin, h), d2 = _mm256_mul_ps(_mm256_set1_ps(2.0f), d);
+      const Vec3 reflected = {_mm256_sub_ps(_mm256_mul_ps(d2, h.x), wo_bin.x),
+                              _mm256_sub_ps(_mm256_mul_ps(d2, h.y), wo_bin.y),
+                              _mm256_sub_ps(_mm256_mul_ps(d2, h.z), wo_bin.z)};
+      const __m256 drawn = _mm256_and_ps(_mm256_cmp_ps(d, _mm256_setzero_ps(), _CMP_GT_OQ),
+                                         _mm256_cmp_ps(reflected.z, _mm256_setzero_ps(), _CMP_GT_OQ));
+      const Vec3 wi = normalize(rot.fromBinFrame(normalize(reflected)));
+      _mm256_store_ps(l.wx + 8 * j, wi.x);
+      _mm256_store_ps(l.wy + 8 * j, wi.y);
+      _mm256_store_ps(l.wz + 8 * j, wi.z);
+      // pdfQuery(q, wi): back into the bin frame and onto the square, then pdfImpl there without
+      // its searches. When the point's row is the drawn row and its row and column lie in the
+      // drawn segments, the searches would find those very segments (the nodes of a CDF increase
+      // strictly, so a cell lies in one segment only) and pdfImpl's value is pdfOf of them, bit
+      // for bit. Otherwise (the round trip crossed a cell border, or moved to another row) the
+      // lane takes the scalar pdf, as an Incident draw near a border does.
+      const SquareLanes sq = halfToSquare(rot.toBinFrame(wi), wo_bin);
+      const __m256 ok = _mm256_and_ps(sq.ok, drawn);
+      // pdfImpl's row and column.
+      const __m256i row2 = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(sq.s, fnu)), _mm256_set1_epi32(t.nu - 1));
+      const __m256i col2 = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(sq.t, fnv)), _mm256_set1_epi32(t.nv - 1));
+      const __m256 same_row = _mm256_castsi256_ps(_mm256_cmpeq_epi32(row2, row[j]));
+      const __m256 same = _mm256_and_ps(_mm256_and_ps(same_row, inSegment(seg_s[j], _mm256_cvtepi32_ps(row2))),
+                                        inSegment(seg_t, _mm256_cvtepi32_ps(col2)));
+      const __m256 p = _mm256_mul_ps(pdfOf(seg_s[j], seg_t, t.pdf_scale), sq.factor);  // v * (kTwoPi * to_solid_angle)
+      _mm256_store_ps(l.pdf + 8 * j, _mm256_and_ps(p, ok));
+      near_border |= std::uint64_t(_mm256_movemask_ps(_mm256_andnot_ps(same, ok))) << (8 * j);
+    } else {
+      // squareToDirection, fromBinFrame, normalize.
+      const Vec3 wi = normalize(rot.fromBinFrame(squareToDirection(s[j], tt)));
+      _mm256_store_ps(l.wx + 8 * j, wi.x);
+      _mm256_store_ps(l.wy + 8 * j, wi.y);
+      _mm256_store_ps(l.wz + 8 * j, wi.z);
+      // pdfOf from the segments just drawn.
+      _mm256_store_ps(l.pdf + 8 * j, pdfOf(seg_s[j], seg_t, t.pdf_scale));
+      const __m256 inside = _mm256_and_ps(wellInside(gs[j], DpCdfSampler::kCellMargin * float(t.nu)),
+                                          wellInside(gt, DpCdfSampler::kCellMargin * float(t.nv)));
+      near_border |= std::uint64_t(~_mm256_movemask_ps(inside) & 0xff) << (8 * j);
+    }
   }
   return near_border;
 }
 
 // pdfQuery + pdfImpl for wi = (a0, a1, a2); lanes outside the domain get 0.
+template <bool kHalf>
 BTF_AVX2 void pdfLanes(const Tables& t, Lanes& l) {
   constexpr int V = kVectors;
-  const __m256i one = _mm256_set1_epi32(1);
-  const int* starts = reinterpret_cast<const int*>(t.starts);
-  __m256 oz[V], in_domain[V];
-  __m256i bin[V], ms[V], ns[V], mt[V], nt[V], row[V], col[V], ks[V], kt[V], n[V];
+  __m256 oz[V], pdf[V];
+  __m256i bin[V];
+  SquareLanes sq[V];
   for (int j = 0; j < V; ++j) oz[j] = _mm256_load_ps(l.oz + 8 * j);
   thetaBins(t, oz, bin);
   for (int j = 0; j < V; ++j) {
     _mm256_store_si256(reinterpret_cast<__m256i*>(l.bin + 8 * j), bin[j]);
-    const __m256 ix = _mm256_load_ps(l.a0 + 8 * j), iy = _mm256_load_ps(l.a1 + 8 * j), iz = _mm256_load_ps(l.a2 + 8 * j);
-    __m256 c, s;
-    binRotation(_mm256_load_ps(l.ox + 8 * j), _mm256_load_ps(l.oy + 8 * j), c, s);
-    // toBinFrame and directionToSquare.
-    const __m256 bx = _mm256_add_ps(_mm256_mul_ps(c, ix), _mm256_mul_ps(s, iy));
-    const __m256 by = _mm256_add_ps(_mm256_mul_ps(_mm256_xor_ps(s, _mm256_set1_ps(-0.0f)), ix), _mm256_mul_ps(c, iy));
-    const __m256 phi = atan2Turns(by, bx);
-    const __m256 sum = _mm256_add_ps(phi, _mm256_set1_ps(1.0f));
-    const __m256i at_one = _mm256_castps_si256(_mm256_cmp_ps(sum, _mm256_set1_ps(1.0f), _CMP_GE_OQ));
-    const __m256 wrapped = _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(sum), at_one));
-    const __m256 st_y = select(phi, wrapped, _mm256_cmp_ps(phi, _mm256_setzero_ps(), _CMP_LT_OQ));
-    const __m256 st_x = iz;
-    in_domain[j] = _mm256_and_ps(_mm256_cmp_ps(iz, _mm256_setzero_ps(), _CMP_GT_OQ),
-                                 _mm256_cmp_ps(st_x, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
-    // pdfImpl; lanes outside the domain (whose result is dropped) search row and column 0.
-    const __m256i keep = _mm256_castps_si256(in_domain[j]);
-    row[j] = _mm256_and_si256(keep, _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(st_x, _mm256_set1_ps(float(t.nu)))),
-                                                     _mm256_set1_epi32(t.nu - 1)));
-    col[j] = _mm256_and_si256(keep, _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(st_y, _mm256_set1_ps(float(t.nv)))),
-                                                     _mm256_set1_epi32(t.nv - 1)));
-    const __m256i bin_base = _mm256_mullo_epi32(bin[j], _mm256_set1_epi32(t.nu + 1));
-    ms[j] = _mm256_i32gather_epi32(starts, bin_base, 4);
-    ns[j] = _mm256_sub_epi32(_mm256_i32gather_epi32(starts, _mm256_add_epi32(bin_base, one), 4), ms[j]);
-    const __m256i row_index = _mm256_add_epi32(bin_base, _mm256_add_epi32(row[j], one));
-    mt[j] = _mm256_i32gather_epi32(starts, row_index, 4);
-    nt[j] = _mm256_sub_epi32(_mm256_i32gather_epi32(starts, _mm256_add_epi32(row_index, one), 4), mt[j]);
+    const Vec3 wo = loadVec3(l.ox + 8 * j, l.oy + 8 * j, l.oz + 8 * j);
+    const Rotation rot = binRotation(wo.x, wo.y);
+    const Vec3 wi_bin = rot.toBinFrame(loadVec3(l.a0 + 8 * j, l.a1 + 8 * j, l.a2 + 8 * j));
+    if constexpr (kHalf)
+      sq[j] = halfToSquare(wi_bin, rot.toBinFrame(wo));
+    else
+      sq[j] = incidentToSquare(wi_bin);
   }
-  for (int j = 0; j < V; ++j) n[j] = ns[j];
-  countLe(NodeGather{t.nodes16, t.nodes8}, ms, n, row, t.steps, ks);
-  for (int j = 0; j < V; ++j) n[j] = nt[j];
-  countLe(NodeGather{t.nodes16, t.nodes8}, mt, n, col, t.steps, kt);
-  for (int j = 0; j < V; ++j) {
-    const Segment seg_s = segmentAt(t, ms[j], ks[j], ns[j], t.nu);
-    const Segment seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
-    const __m256 p = _mm256_mul_ps(_mm256_mul_ps(_mm256_div_ps(seg_s.dq, seg_s.dx), _mm256_div_ps(seg_t.dq, seg_t.dx)),
-                                   _mm256_set1_ps(t.pdf_scale));
-    _mm256_store_ps(l.pdf + 8 * j, _mm256_and_ps(p, in_domain[j]));
-  }
+  pdfOfSquare<kHalf>(t, bin, sq, pdf);
+  for (int j = 0; j < V; ++j) _mm256_store_ps(l.pdf + 8 * j, pdf[j]);
 }
 
 bool finite(float v) { return std::isfinite(v); }
@@ -385,7 +584,7 @@ DpCdfSampler::LaneTables DpCdfSampler::laneTables() const {
 }
 
 bool DpCdfSampler::vectorized() const {
-  return narrow_ && !isAnisotropic() && parameterization() == Parameterization::Incident && cpuHasAvx2() &&
+  return narrow_ && !isAnisotropic() && cpuHasAvx2() &&
          std::max(nodes16_.size(), nodes8_.size()) < (std::size_t(1) << 30) && starts_.size() < (std::size_t(1) << 30);
 }
 
@@ -411,7 +610,8 @@ void DpCdfSampler::sampleDirections(std::span<const glm::vec3> wo, std::span<con
     const float p = near_border ? DpCdfSampler::pdfQuery(query(wo[i]), wi) : l.pdf[k];
     out[i] = p > 0.0f ? DirectionSample{wi, p} : DirectionSample{glm::vec3(0.0f), 0.0f};
   };
-  forEachBlock(wo.size(), l, load, [&] { return sampleLanes(t, l); }, store);
+  const bool half = parameterization() == Parameterization::Half;
+  forEachBlock(wo.size(), l, load, [&] { return half ? sampleLanes<true>(t, l) : sampleLanes<false>(t, l); }, store);
 }
 
 void DpCdfSampler::pdfs(std::span<const glm::vec3> wi, std::span<const glm::vec3> wo, std::span<float> out) const {
@@ -427,7 +627,14 @@ void DpCdfSampler::pdfs(std::span<const glm::vec3> wi, std::span<const glm::vec3
   auto store = [&](int k, std::size_t i, bool taken, bool) {
     out[i] = !taken ? pdf(wi[i], wo[i]) : empty_[std::size_t(l.bin[k])] ? 0.0f : l.pdf[k];
   };
-  forEachBlock(wo.size(), l, load, [&] { pdfLanes(t, l); return std::uint64_t(0); }, store);
+  const bool half = parameterization() == Parameterization::Half;
+  forEachBlock(
+      wo.size(), l, load,
+      [&] {
+        half ? pdfLanes<true>(t, l) : pdfLanes<false>(t, l);
+        return std::uint64_t(0);
+      },
+      store);
 }
 
 }  // namespace btf

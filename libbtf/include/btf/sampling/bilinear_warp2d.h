@@ -53,6 +53,10 @@ class BilinearWarp2D {
   Point sample(glm::vec2 u, std::span<const float> params = {}) const;
   Point invert(glm::vec2 p, std::span<const float> params = {}) const;
   float eval(glm::vec2 p, std::span<const float> params = {}) const;
+  // eval(p, {leading..., v_k}) for every tabulated value v_k of the last parameter, into out (one
+  // entry per value): the same floats, with the cell and the leading parameters' blend found once
+  // (an RGL file's RGB table: its channels).
+  void evalAtEveryLastValue(glm::vec2 p, std::span<const float> leading, std::span<float> out) const;
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -58,8 +58,9 @@ class DpCdfSampler final : public BinnedSampler {
 
   // 32 queries per step in AVX2 lanes (gathers for the searches, the scalar path's arithmetic
   // operation for operation, so the results are the single queries' bit for bit); lanes whose
-  // draw lies within kCellMargin of a cell border take the scalar pdf. Used for isotropic
-  // materials with 16-bit CDFs on CPUs with AVX2; otherwise the single queries run in a loop.
+  // draw lies within kCellMargin of a cell border (Incident) or whose wi maps back into another
+  // cell (Half) take the scalar pdf. Used for isotropic materials with 16-bit CDFs on CPUs with
+  // AVX2, in either parameterization; otherwise the single queries run in a loop.
   void sampleDirections(std::span<const glm::vec3> wo, std::span<const glm::vec2> u,
                         std::span<DirectionSample> out) const override;
   void pdfs(std::span<const glm::vec3> wi, std::span<const glm::vec3> wo, std::span<float> out) const override;
