@@ -100,7 +100,7 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
                                             "rel_error_vs_reference", "per_sample_variance", "full_cdf_bytes",
                                             "acceptance_rate", "stream_samples_per_s", "theta_o_deg",
                                             "parameterization", "fcos_rel_variance", "efficiency_vs_own",
-                                            "stream_efficiency_vs_own"};
+                                            "stream_efficiency_vs_own", "stream_with_eval_per_s"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler, per_view;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -121,10 +121,12 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
     EXPECT_EQ(rows[i][12].empty(), !tables) << "full_cdf_bytes of " << sampler;
     EXPECT_EQ(rows[i][13].empty(), sampler != "quadtree") << "acceptance_rate of " << sampler;
     EXPECT_EQ(rows[i][14].empty(), !tables) << "stream_samples_per_s of " << sampler;
+    EXPECT_EQ(rows[i][20].empty(), !tables) << "stream_with_eval_per_s of " << sampler;
     if (tables) {
       EXPECT_GT(std::stod(rows[i][14]), 0.0) << "stream_samples_per_s of " << sampler;
       EXPECT_TRUE(rows[i][16] == "incident" || rows[i][16] == "half") << "parameterization of " << sampler;
       EXPECT_GT(std::stod(rows[i][19]), 0.0) << "stream_efficiency_vs_own of " << sampler;
+      EXPECT_GT(std::stod(rows[i][20]), 0.0) << "stream_with_eval_per_s of " << sampler;
     } else {
       EXPECT_TRUE(rows[i][16].empty()) << "parameterization of " << sampler;
     }

@@ -116,6 +116,9 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
     for (int k = 0; k < kTimingRepeats; ++k)
       row.stream_samples_per_s = std::max(row.stream_samples_per_s.value_or(0.0),
                                           streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed));
+    for (int k = 0; k < kTimingRepeats; ++k)
+      row.stream_with_eval_per_s = std::max(row.stream_with_eval_per_s.value_or(0.0),
+                                            streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed, true));
   } else if (setting.choice != SamplerChoice::Own) {
     row.bytes = 0.0;  // a warp has no tables
   }
@@ -154,9 +157,10 @@ void relateToOwn(std::vector<SamplingRow>& rows) {
     if (own == rows.end() || !(own->efficiency > 0)) continue;
     r.efficiency_vs_own = r.efficiency / own->efficiency;
     // efficiency = 1 / (variance of the mean * seconds of the draws) = 1 / (variance per sample *
-    // seconds per draw), so the stream's is its draws per second over its variance per sample.
-    if (r.stream_samples_per_s && r.per_sample_variance > 0)
-      r.stream_efficiency_vs_own = *r.stream_samples_per_s / r.per_sample_variance / own->efficiency;
+    // seconds per draw), so the stream's is its draws per second over its variance per sample. The
+    // draws are counted with the eval that forms their weight, which the own sampler's time holds.
+    if (r.stream_with_eval_per_s && r.per_sample_variance > 0)
+      r.stream_efficiency_vs_own = *r.stream_with_eval_per_s / r.per_sample_variance / own->efficiency;
   }
 }
 

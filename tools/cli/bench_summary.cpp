@@ -85,7 +85,7 @@ void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& ro
 void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
   std::fprintf(out,
                "\nAgainst the material's own sampler at the same theta_o (ratios > 1: ours is better; eff = 1 / "
-               "(variance * seconds) with sample()'s time, stream = with the stream call's time per draw; var = "
+               "(variance * seconds) with sample()'s time, stream = with the stream call's time per draw and the eval of its weight; var = "
                "environment-lit variance per sample; f cos = relative variance of f cos / pdf):\n");
   std::fprintf(out, "  %-26s %7s %-9s %-9s %8s %10s %9s %11s %9s %13s\n", "material", "theta_o", "param", "sampler", "eps",
                "bytes/full", "eff/own", "stream/own", "var own/", "f cos own/");

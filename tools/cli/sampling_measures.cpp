@@ -127,7 +127,7 @@ double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint6
 }
 
 double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
-                              std::uint64_t seed) {
+                              std::uint64_t seed, bool with_eval) {
   Rng rng(seed, 2);
   constexpr std::size_t kBlock = 256;
   const std::vector<glm::vec3> wos(kBlock, wo);
@@ -140,6 +140,9 @@ double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo,
     for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
     const auto start = Clock::now();
     sampler.sampleDirections(wos, u, out);
+    if (with_eval)
+      for (const BinnedSampler::DirectionSample& d : out)
+        if (d.pdf > 0) acc += sampler.material().eval(d.wi, wo).luminance();
     seconds += secondsSince(start);
     acc += out[done / kBlock % kBlock].pdf;
   }

@@ -50,8 +50,10 @@ double fcosRelativeVariance(const Material& sampled, const glm::vec3& wo, std::u
 
 // drawDirection per second on one thread over `count` draws.
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
-// The same draws through the stream call (BinnedSampler::sampleDirections, blocks of 256).
+// The same draws through the stream call (BinnedSampler::sampleDirections, blocks of 256). With
+// with_eval, each block's drawn directions are then evaluated (the wrapped material's eval, which
+// a renderer needs for the weight f cos / pdf) inside the timed part.
 double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
-                              std::uint64_t seed);
+                              std::uint64_t seed, bool with_eval = false);
 
 }  // namespace btf::cli

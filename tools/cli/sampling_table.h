@@ -6,8 +6,10 @@
 //   theta_o_deg, parameterization (incident or half for the tabulated samplers, empty for others),
 //   fcos_rel_variance (fcosRelativeVariance: the sampler's quality without the environment),
 //   efficiency_vs_own (efficiency / the material's own sampler's at the same theta_o),
-//   stream_efficiency_vs_own (the same with the stream call's time per draw, which returns the
-//   direction and its pdf but not the weight, against the own sampler's sample(), which does)
+//   stream_efficiency_vs_own (the same with the time per draw of the stream call followed by the
+//   material's eval of every drawn direction: the stream returns the direction and its pdf, and a
+//   renderer still needs f for the weight, which the own sampler's sample() includes),
+//   stream_with_eval_per_s (that rate: sampleDirections, then eval per draw; empty for others)
 // rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);
 // full_cdf_bytes (the float CDFs of the full grid, for memory ratios) is empty for warps and a
 // material's own sampler; acceptance_rate is the quadtree's mean per-proposal acceptance over its
@@ -28,7 +30,7 @@ struct SamplingRow {
   std::optional<double> parameter;
   std::optional<double> bytes;
   double samples_per_s = 0;
-  std::optional<double> stream_samples_per_s;
+  std::optional<double> stream_samples_per_s, stream_with_eval_per_s;
   double chi2_statistic = 0, chi2_p = 0;
   double variance = 0, seconds = 0, efficiency = 0;
   double rel_error_vs_reference = 0;

@@ -107,10 +107,12 @@ BinnedSampler::BinnedSampler(std::shared_ptr<const Material> material, const Sam
   cos_theta_o_edges_.push_back(-std::numeric_limits<float>::infinity());
 }
 
-glm::vec3 BinnedSampler::binLowerEdgeDirection(std::size_t bin) const {
+glm::vec3 BinnedSampler::binEdgeDirection(std::size_t bin, bool upper) const {
   const int theta_bin = int(bin / phi_o_bins_), phi_bin = int(bin % phi_o_bins_);
   const float phi = anisotropic_ ? (float(phi_bin) + 0.5f) / float(phi_o_bins_) * kTwoPi : 0.0f;
-  return sphericalDirection(float(theta_bin) / float(theta_o_bins_) * kHalfPi, phi);
+  // The upper edge of the last bin is the horizon itself, where f is not defined.
+  const float theta = std::min(float(theta_bin + int(upper)) / float(theta_o_bins_) * kHalfPi, kHalfPi - 1e-3f);
+  return sphericalDirection(theta, phi);
 }
 
 glm::vec3 BinnedSampler::binDirection(std::size_t bin) const {
@@ -193,19 +195,24 @@ float BinnedSampler::target(std::size_t bin, glm::vec2 st) const {
     // Directions whose reflection is below the horizon for the bin's central wo may be above it
     // for other wo of the bin, and cells on the horizon are partly above it: without mass there,
     // a query would draw such directions only by the defensive share, with weights hundreds of
-    // times the mean (seen at theta_o = 0 and 80 degrees on an RGL film). So a point below the
-    // horizon takes f at the bin's lower theta_o edge (which reflects more half vectors above
-    // it), and a point still just below it there takes f at its mirror image above the horizon
-    // (within kHorizonBand of wi.z, about one cell): cells on the edge keep their neighbours' mass.
+    // times the mean (seen at theta_o = 0, 61.8 and 80 degrees on RGL files). So a point below the
+    // horizon takes f at whichever of the bin's theta_o edges reflects it highest (the lower edge
+    // for half vectors near the plane of wo, the upper one for many far out of it; wi.z is close
+    // to linear in theta_o across a bin, so the edges bound it), and a point still just below it
+    // there takes f at its mirror image above the horizon (within kHorizonBand of wi.z, about one
+    // cell): cells on the edge keep their neighbours' mass. Lifting the points just above the
+    // horizon too (wi.z < kHorizonBand) made the variance worse at theta_o = 0 on paper_white.
     constexpr float kHorizonBand = 0.02f;
     const glm::vec3 h = squareToHalfVector(st);
     float d = glm::dot(wo, h);
     wi = (2.0f * d) * h - wo;
-    if (!(wi.z > 0.0f)) {
-      wo = binLowerEdgeDirection(bin);
-      d = glm::dot(wo, h);
-      wi = (2.0f * d) * h - wo;
-    }
+    if (!(wi.z > 0.0f))
+      for (const bool upper : {false, true}) {
+        const glm::vec3 edge = binEdgeDirection(bin, upper);
+        const float de = glm::dot(edge, h);
+        const glm::vec3 we = (2.0f * de) * h - edge;
+        if (we.z > wi.z) wo = edge, d = de, wi = we;
+      }
     if (!(d > 0.0f) || !(wi.z > -kHorizonBand)) return 0.0f;
     wi.z = std::max(std::abs(wi.z), 1e-6f);
     wi = glm::normalize(wi);

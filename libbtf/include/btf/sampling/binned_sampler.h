@@ -160,8 +160,8 @@ class BinnedSampler : public Material {
   // The bin a wo falls in (wo.z > 0), and the central wo the bin was tabulated for (bin frame).
   std::size_t binOf(const glm::vec3& wo) const;
   glm::vec3 binDirection(std::size_t bin) const;
-  // The bin's wo at its lower theta_o edge (and central phi_o).
-  glm::vec3 binLowerEdgeDirection(std::size_t bin) const;
+  // The bin's wo at its lower or upper theta_o edge (and central phi_o).
+  glm::vec3 binEdgeDirection(std::size_t bin, bool upper) const;
 
  protected:
   // The bin of a wo and the rotation from the bin frame to the local frame (identity when
