@@ -104,12 +104,20 @@ TEST(AutoParameterization, NamesParseBothWays) {
 // per test: 6 tests), sample() and pdf() agreeing on every draw.
 class HalfVectorRgl : public testing::TestWithParam<std::string> {};
 
-TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
-  const auto material =
-      std::make_shared<btf::RglBrdf>(btf::test::sharedDataDir() / "rgl_bsdf" / (GetParam() + ".bsdf"));
+btf::SamplerOptions halfVectorOptions() {
   btf::SamplerOptions options;
   options.parameterization = Parameterization::Half;
-  const auto sampler = btf::makeSampler(btf::SamplerKind::DpCdf, material, options);
+  return options;
+}
+
+std::shared_ptr<const btf::Material> halfVectorDpSampler(const std::string& file, const btf::SamplerOptions& options) {
+  const auto material = std::make_shared<btf::RglBrdf>(btf::test::sharedDataDir() / "rgl_bsdf" / (file + ".bsdf"));
+  return btf::makeSampler(btf::SamplerKind::DpCdf, material, options);
+}
+
+TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
+  const btf::SamplerOptions options = halfVectorOptions();
+  const auto sampler = halfVectorDpSampler(GetParam(), options);
   for (const float theta_deg : {12.0f, 80.0f}) {
     const glm::vec3 wo = btf::sphericalDirection(glm::radians(theta_deg), 0.4f);
     btf::Chi2Options chi2;
@@ -135,11 +143,8 @@ TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
 // views beyond it are limited by the bin width instead), 50,000 draws each: no weight f cos / pdf
 // above 100x the mean weight.
 TEST_P(HalfVectorRgl, NoRunawayWeightsNearBinEdges) {
-  const auto material =
-      std::make_shared<btf::RglBrdf>(btf::test::sharedDataDir() / "rgl_bsdf" / (GetParam() + ".bsdf"));
-  btf::SamplerOptions options;
-  options.parameterization = Parameterization::Half;
-  const auto sampler = btf::makeSampler(btf::SamplerKind::DpCdf, material, options);
+  const btf::SamplerOptions options = halfVectorOptions();
+  const auto sampler = halfVectorDpSampler(GetParam(), options);
   for (int edge = 0; edge <= options.theta_o_bins; ++edge)
     for (const float side : {-0.02f, 0.02f}) {
       const float theta_deg = float(edge) * 90.0f / float(options.theta_o_bins) + side;
