@@ -99,6 +99,16 @@ std::shared_ptr<const Material> build(const BenchMaterial& m, const Setting& set
   return withSampler(setting.choice, m.material, options);
 }
 
+// Timings are the best of kTimingRepeats identical runs: other processes on a shared machine only
+// ever add time, and the best run is the one they disturbed least (the draws, and so the
+// variance, are the same each time). `rate` returns draws per second.
+template <class Rate>
+double bestRate(Rate rate) {
+  double best = 0.0;
+  for (int k = 0; k < kTimingRepeats; ++k) best = std::max(best, rate());
+  return best;
+}
+
 SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Material& sampled, const BenchSizes& sizes,
                     float theta_o_deg, double reference, std::uint64_t seed) {
   const glm::vec3 wo = sphericalDirection(theta_o_deg * kPi / 180.0f, 0.0f);
@@ -113,20 +123,13 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
     row.bytes = double(stats.bytes);
     row.full_cdf_bytes = double(stats.full_cdf_bytes);
     if (std::isfinite(stats.acceptance_rate)) row.acceptance_rate = stats.acceptance_rate;
-    for (int k = 0; k < kTimingRepeats; ++k)
-      row.stream_samples_per_s = std::max(row.stream_samples_per_s.value_or(0.0),
-                                          streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed));
-    for (int k = 0; k < kTimingRepeats; ++k)
-      row.stream_with_eval_per_s = std::max(row.stream_with_eval_per_s.value_or(0.0),
-                                            streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed, true));
+    row.stream_samples_per_s = bestRate([&] { return streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed); });
+    row.stream_with_eval_per_s =
+        bestRate([&] { return streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed, true); });
   } else if (setting.choice != SamplerChoice::Own) {
     row.bytes = 0.0;  // a warp has no tables
   }
-  // Timings are the best of kTimingRepeats identical runs: other processes on a shared machine only
-  // ever add time, and the best run is the one they disturbed least (the draws, and so the
-  // variance, are the same each time).
-  for (int k = 0; k < kTimingRepeats; ++k)
-    row.samples_per_s = std::max(row.samples_per_s, samplesPerSecond(sampled, wo, sizes.speed_draws, seed));
+  row.samples_per_s = bestRate([&] { return samplesPerSecond(sampled, wo, sizes.speed_draws, seed); });
   // The harness's default 20 x 40 cells: it integrates the sharp piecewise-constant tables
   // exactly (to ~1e-6 of a count), so finer cells are not needed, and the integration of the
   // 40 x 80 cells of `btf sample` made the chi-square most of the run time.

@@ -204,15 +204,15 @@ float BinnedSampler::target(std::size_t bin, glm::vec2 st) const {
     // horizon too (wi.z < kHorizonBand) made the variance worse at theta_o = 0 on paper_white.
     constexpr float kHorizonBand = 0.02f;
     const glm::vec3 h = squareToHalfVector(st);
-    float d = glm::dot(wo, h);
-    wi = (2.0f * d) * h - wo;
-    if (!(wi.z > 0.0f))
+    Reflection reflected = reflectAbout(wo, h);
+    if (!(reflected.wi.z > 0.0f))
       for (const bool upper : {false, true}) {
         const glm::vec3 edge = binEdgeDirection(bin, upper);
-        const float de = glm::dot(edge, h);
-        const glm::vec3 we = (2.0f * de) * h - edge;
-        if (we.z > wi.z) wo = edge, d = de, wi = we;
+        const Reflection at_edge = reflectAbout(edge, h);
+        if (at_edge.wi.z > reflected.wi.z) wo = edge, reflected = at_edge;
       }
+    wi = reflected.wi;
+    const float d = reflected.wo_dot_h;
     if (!(d > 0.0f) || !(wi.z > -kHorizonBand)) return 0.0f;
     wi.z = std::max(std::abs(wi.z), 1e-6f);
     wi = glm::normalize(wi);

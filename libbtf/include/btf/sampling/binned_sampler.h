@@ -213,11 +213,19 @@ class BinnedSampler : public Material {
   // nothing where a half vector's reflection leaves the upper hemisphere.
   std::optional<glm::vec3> squareToIncoming(glm::vec2 st, const glm::vec3& wo_bin) const {
     if (!half()) return squareToDirection(st);
-    const glm::vec3 h = squareToHalfVector(st);
-    const float d = glm::dot(wo_bin, h);
-    const glm::vec3 wi = (2.0f * d) * h - wo_bin;
-    if (!(d > 0.0f) || !(wi.z > 0.0f)) return std::nullopt;
-    return glm::normalize(wi);
+    const Reflection r = reflectAbout(wo_bin, squareToHalfVector(st));
+    if (!(r.wo_dot_h > 0.0f) || !(r.wi.z > 0.0f)) return std::nullopt;
+    return glm::normalize(r.wi);
+  }
+  // wo mirrored about the half vector h (unit length): wi = 2 (wo.h) h - wo, with wo.h, which
+  // decides whether the reflection is valid and enters the half map's Jacobian.
+  struct Reflection {
+    glm::vec3 wi;
+    float wo_dot_h;
+  };
+  static Reflection reflectAbout(const glm::vec3& wo, const glm::vec3& h) {
+    const float d = glm::dot(wo, h);
+    return {(2.0f * d) * h - wo, d};
   }
   // The square point of wi (bin frame, wi.z > 0) and the factor that turns a density over the
   // square into the solid-angle pdf of wi: 1 / (2 pi) for Incident, 1 / (16 pi r^2 wo.h) for Half
