@@ -8,6 +8,7 @@
 
 #include "btf/compress/vq_btf.h"
 #include "btf/io/btf_images.h"
+#include "btf/io/btf_quality.h"
 #include "cli_test_support.h"
 
 namespace btf::test {
@@ -32,6 +33,7 @@ TEST(CompressCli, FolderRoundTripReportsTheFilesOwnErrorAndRatio) {
   const BtfErrorStats e = compareBtf(source, vq);
   EXPECT_NEAR(report["rel_rmse"].get<double>(), e.rel_rmse, 1e-12);
   EXPECT_GT(e.rel_rmse, 0.0) << "a lossy setting loses something";
+  EXPECT_NEAR(report["mean_ssim"].get<double>(), compareBtfSsim(source, vq).mean_ssim, 1e-12);
 
   const CommandResult info = runBtf({"info", packed.string(), "--json"});
   ASSERT_EQ(info.exit_code, 0) << info.output;
@@ -44,6 +46,46 @@ TEST(CompressCli, FolderRoundTripReportsTheFilesOwnErrorAndRatio) {
   ASSERT_EQ(d.exit_code, 0) << d.output;
   const BtfErrorStats back = compareBtf(vq, BtfImageFolder::open(unpacked));
   EXPECT_LE(back.rel_rmse, 1e-6) << "the folder holds what the file decodes to";
+}
+
+// The real measured slice (one view, Bonn naming, 8-bit sRGB JPEG) through info, compress and
+// decompress: the partial view set survives every step, and the perceptual figures are those of
+// the written file.
+TEST(CompressCli, AOneViewMeasuredSliceGoesThroughEveryVerb) {
+  const fs::path slice = sharedDataDir() / "btf" / "ubo2003_wallpaper_view000";
+  if (!fs::is_directory(slice)) GTEST_SKIP() << slice << " is not here";
+  TempDir dir;
+  const fs::path packed = dir / "slice.btfz", unpacked = dir / "unpacked";
+  const CommandResult info = runBtf({"info", slice.string(), "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  const nlohmann::json facts = parseJsonOutput(info);
+  EXPECT_EQ(facts["views"], nlohmann::json({0}));
+  EXPECT_EQ(facts["images"].get<int>(), 81);
+  EXPECT_EQ(facts["transfer"].get<std::string>(), "srgb");
+  EXPECT_THAT(runBtf({"info", slice.string()}).output, HasSubstr("1 view (theta 0, phi 0) x 81 lights"));
+
+  const CommandResult c = runBtf({"compress", slice.string(), packed.string(), "--epsilon", "0.3", "--levels", "2",
+                                  "--chroma-epsilon", "0.3", "--json"});
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const nlohmann::json report = parseJsonOutput(c);
+  EXPECT_EQ(report["views"], nlohmann::json({0}));
+  EXPECT_NEAR(report["ratio_u8"].get<double>(), 256.0 * 256 * 81 * 3 / double(fs::file_size(packed)), 1e-9);
+  const BtfImageFolder source = BtfImageFolder::open(slice);
+  const VqBtf vq = VqBtf::read(packed);
+  EXPECT_EQ(vq.views(), source.views());
+  const BtfSsimStats ssim = compareBtfSsim(source, vq);
+  EXPECT_NEAR(report["mean_ssim"].get<double>(), ssim.mean_ssim, 1e-12);
+  EXPECT_NEAR(report["rel_rmse_display"].get<double>(), ssim.rel_rmse_display, 1e-12);
+  EXPECT_EQ(report["ssim_white"].get<double>(), 1.0) << "an 8-bit folder's white is its largest code";
+  EXPECT_GT(ssim.mean_ssim, 0.3);
+  EXPECT_LT(ssim.mean_ssim, 0.99) << "epsilon 0.3 loses visible detail";
+  EXPECT_NEAR(report["noise_rel_rmse"].get<double>(), estimateBtfNoiseFloor(source).rel_rmse, 1e-12);
+
+  const CommandResult d = runBtf({"decompress", packed.string(), unpacked.string(), "--format", "png8"});
+  ASSERT_EQ(d.exit_code, 0) << d.output;
+  const BtfImageFolder back = BtfImageFolder::open(unpacked);
+  EXPECT_EQ(back.views(), source.views());
+  EXPECT_LE(compareBtf(vq, back).rel_rmse, 0.02) << "8-bit sRGB quantization only";
 }
 
 TEST(CompressCli, ABrdfFileIsCompressedAsAOneTexelBtf) {
@@ -103,9 +145,11 @@ TEST(BenchCompression, QuickRunWritesBothCsvFilesWithVqAndPcaRows) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string csv = readBytes(out / "compression.csv");
   EXPECT_THAT(csv, HasSubstr("method,material,texels,epsilon,levels,components,bytes,ratio_u8,ratio_f32,rel_rmse,psnr_db,"
-                             "compression_s,evals_per_s,chroma_epsilon\n"));
+                             "compression_s,evals_per_s,chroma_epsilon,mean_ssim,rel_rmse_display,noise_rel_rmse\n"));
   EXPECT_THAT(csv, HasSubstr("\nvq,fabric,64,0.04,"));
-  EXPECT_THAT(csv, HasSubstr(",0.02\n"));  // the chroma tolerance follows epsilon (--chroma-scale 0.5)
+  // The chroma tolerance follows epsilon (--chroma-scale 0.5); mean_ssim, rel_rmse_display and
+  // noise_rel_rmse follow it.
+  EXPECT_THAT(csv, testing::ContainsRegex(",0\\.02,[-0-9.e]+,[-0-9.e]+,[-0-9.e]+\n"));
   EXPECT_THAT(csv, HasSubstr("\npca,fabric,64,"));
   const std::string brdfs = readBytes(out / "brdf_compression.csv");
   EXPECT_THAT(brdfs, HasSubstr("plastic-red,"));

@@ -163,6 +163,31 @@ TEST(BenchCompressibility, TinyRunWritesOneRowPerPatternAndEpsilon) {
   for (const fs::path& f : filesIn(out)) EXPECT_EQ(f.string().find(".part"), std::string::npos) << f;
 }
 
+// A measured one-view slice beside a synthetic pattern cut to the same view: both analysed on
+// their 81 (view, light) pairs, a centred window of --size texels.
+TEST(BenchCompressibility, AMeasuredSliceIsAnalysedBesideAPatternAtTheSameView) {
+  const fs::path slice = sharedDataDir() / "btf" / "ubo2003_wallpaper_view000";
+  if (!fs::is_directory(slice)) GTEST_SKIP() << slice << " is not here";
+  TempDir dir;
+  const CommandResult r = runBtf({"bench", "compressibility", "-o", (dir / "out").string(), "--patterns", "fabric",
+                                  "--inputs", slice.string(), "--size", "12", "--max-view-theta", "0",
+                                  "--directions", "0", "--epsilons", "0.05"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("1 view (theta 0, phi 0)"));
+  std::stringstream csv(readBytes(dir / "out" / "compressibility.csv"));
+  std::string line;
+  std::getline(csv, line);  // header
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) rows.push_back(splitCsvLine(line));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0][0], "fabric");
+  EXPECT_EQ(rows[1][0], "ubo2003_wallpaper_view000");
+  for (const auto& row : rows) {
+    EXPECT_EQ(row[2], "144") << "12 x 12 texels";
+    EXPECT_EQ(row[3], "81") << "the 81 lights of the one view";
+  }
+}
+
 TEST(BenchCompressibility, BadOptionsFailNamingTheProblem) {
   TempDir dir;
   struct Case {
@@ -174,6 +199,8 @@ TEST(BenchCompressibility, BadOptionsFailNamingTheProblem) {
       {{"--size", "4", "--epsilons", "0.02,1.5"}, "(0, 1)"},
       {{"--size", "200"}, "--size"},
       {{"--size", "4", "--directions", "-3"}, "--directions"},
+      {{"--size", "4", "--patterns", ""}, "no --patterns and no --inputs"},
+      {{"--size", "4", "--inputs", (dir / "absent").string()}, "absent"},
   };
   for (const Case& k : cases) {
     std::vector<std::string> args{"bench", "compressibility", "-o", (dir / "out").string()};

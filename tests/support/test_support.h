@@ -2,8 +2,11 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "btf/core/error.h"
 
 namespace btf::test {
 
@@ -30,5 +33,16 @@ CommandResult runCommand(const std::string& program, const std::vector<std::stri
 
 // ../shared/data/real, as configured at build time.
 std::filesystem::path sharedDataDir();
+
+// The message of the btf::Error that `call` throws, or "(no error)": for tests of what an error
+// names (another exception type propagates and fails the test).
+inline std::string errorOf(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
 
 }  // namespace btf::test

@@ -15,15 +15,6 @@ namespace btf::test {
 namespace {
 namespace fs = std::filesystem;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 // Copies a real table, replacing line `line` (1-based) by `text`.
 fs::path editedCopy(const TempDir& dir, const char* file, int line, const std::string& text) {
   std::ifstream in(fitsDir() / file);

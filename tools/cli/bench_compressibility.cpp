@@ -1,8 +1,10 @@
-// `btf bench compressibility [-o DIR]`: how far the synthetic BTFs of `btf-datagen btf` can be
-// compressed at all, whatever the method (compress/compressibility.h): nearest-neighbour texel
-// distances, the greedy texel codebook (the most texel reuse any scaled-codebook VQ can find) and
-// the rank a linear basis needs, per tolerance. The patterns are streamed from the generator (each
-// view is read once).
+// `btf bench compressibility [-o DIR]`: how far the synthetic BTFs of `btf-datagen btf` and measured
+// BTFs (--inputs, a centred window of --size texels) can be compressed at all, whatever the method
+// (compress/compressibility.h): nearest-neighbour texel distances, the greedy texel codebook (the
+// most texel reuse any scaled-codebook VQ can find) and the rank a linear basis needs, per
+// tolerance. --max-view-theta keeps the views up to an elevation (0: the θv = 0 view alone, to set
+// a synthetic BTF beside a measured one-view slice). The patterns are streamed from the generator
+// (each view is read once).
 //   DIR/compressibility.csv  one row per (pattern, epsilon); the nearest-neighbour columns repeat;
 //                            seconds = generating the pattern's views + the analysis
 //   DIR/compressibility_nearest.dat  per pattern, every texel's nearest-texel distance, ascending,
@@ -25,6 +27,8 @@
 #include "btf/compress/compressibility.h"
 #include "btf/core/error.h"
 #include "btf/io/atomic_file.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/btf_subset.h"
 #include "btf_patterns.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"
@@ -39,7 +43,20 @@ struct Args {
   int size = 32;
   std::uint64_t seed = 1;
   CompressibilityOptions analysis;
+  std::string inputs;           // measured BTF image folders, comma-separated
+  float max_view_theta = 75.0f;  // keep the views up to this elevation (degrees)
 };
+
+// The views of `held` up to max_theta_deg, or a btf::Error naming the source when there are none.
+BtfViewSet viewsUpTo(const BtfSource& source, float max_theta_deg) {
+  std::vector<int> kept;
+  for (const int v : source.views().views())
+    if (btfDirections()[std::size_t(v)].theta_deg <= max_theta_deg + 1e-3f) kept.push_back(v);
+  if (kept.empty())
+    throw Error(source.name() + " holds no view up to theta " + std::to_string(max_theta_deg) + " (it holds " +
+                source.views().describe() + ")");
+  return BtfViewSet(std::move(kept));
+}
 
 struct PatternResult {
   std::string pattern;
@@ -109,8 +126,11 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Args
   }
   const CompressibilityReport& first = results.front().report;
   std::ostringstream what;
-  what << args.size << " x " << args.size << " = " << first.texels << " texels per pattern, luminance at "
-       << first.directions << " of the 6561 (view, light) pairs, seed " << args.seed;
+  what << args.size << " x " << args.size << " = " << first.texels << " texels per BTF, luminance at "
+       << (args.analysis.directions > 0 ? "up to " + std::to_string(args.analysis.directions) + " sampled" : "all")
+       << " (view, light) pairs of the views held"
+       << (args.max_view_theta < 75.0f ? " up to theta " + std::to_string(int(args.max_view_theta)) : "")
+       << ", seed " << args.seed;
   // Log axes cannot show 0. Distances below the left edge (texels of zero luminance, d = 0) are
   // drawn at the edge, so every texel still counts in the CDF; a tail of exactly 0 (k = rank of the
   // matrix) is left out, the segments towards tiny tails are clipped at the bottom edge.
@@ -184,24 +204,30 @@ void printTables(const std::vector<PatternResult>& results) {
 }
 
 void runBenchCompressibility(const Args& args) {
-  const std::vector<std::string> patterns = splitCommaList(args.patterns);
-  if (patterns.empty()) throw Error("bench compressibility: --patterns names no pattern");
+  const std::vector<std::string> patterns = splitCommaList(args.patterns), inputs = splitCommaList(args.inputs);
+  if (patterns.empty() && inputs.empty()) throw Error("bench compressibility: no --patterns and no --inputs");
   std::vector<synthetic::BtfPattern> parsed;
   for (const std::string& name : patterns) parsed.push_back(synthetic::parseBtfPattern(name));  // fail before work
+  std::vector<BtfImageFolder> folders;
+  for (const std::string& input : inputs) folders.push_back(BtfImageFolder::open(input));
   std::filesystem::create_directories(args.output);
   std::vector<PatternResult> results;
-  for (std::size_t i = 0; i < patterns.size(); ++i) {
-    const auto start = std::chrono::steady_clock::now();
-    const auto source = synthetic::makeSyntheticBtf(parsed[i], args.size, args.size, args.seed);
-    PatternResult p{patterns[i], args.size, analyzeCompressibility(*source, args.analysis), 0};
+  auto analyze = [&](const std::string& name, const BtfSource& whole, std::chrono::steady_clock::time_point start) {
+    const BtfSubset source(whole, BtfSubset::centredRect(whole, args.size, args.size), viewsUpTo(whole, args.max_view_theta));
+    PatternResult p{name, source.width(), analyzeCompressibility(source, args.analysis), 0};
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("%-8s %dx%d: nearest-texel distance median %.4f, rank at epsilon %g: %d (%.1f s)\n",
-                p.pattern.c_str(), args.size, args.size, p.report.nn_p50,
+    std::printf("%-8s %dx%d, %s: nearest-texel distance median %.4f, rank at epsilon %g: %d (%.1f s)\n",
+                p.pattern.c_str(), source.width(), source.height(), source.views().describe().c_str(), p.report.nn_p50,
                 p.report.at_epsilon.empty() ? 0.0 : p.report.at_epsilon.front().epsilon,
                 p.report.at_epsilon.empty() ? 0 : p.report.at_epsilon.front().rank, p.seconds);
     std::fflush(stdout);
     results.push_back(std::move(p));
+  };
+  for (std::size_t i = 0; i < patterns.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    analyze(patterns[i], *synthetic::makeSyntheticBtf(parsed[i], args.size, args.size, args.seed), start);
   }
+  for (const BtfImageFolder& folder : folders) analyze(folder.name(), folder, std::chrono::steady_clock::now());
   const std::filesystem::path folder = args.output;
   const std::filesystem::path csv = folder / "compressibility.csv";
   writeCsv(csv, results);
@@ -226,10 +252,18 @@ void addBenchCompressibilityCommand(CLI::App& bench) {
   auto args = std::make_shared<Args>();
   auto* cmd = bench.add_subcommand(
       "compressibility",
-      "How compressible the synthetic BTFs are for any method: nearest-neighbour texel distances, greedy texel "
-      "codebook size and linear rank per tolerance, with ratio_u8 bounds; CSV, tables and gnuplot charts (nearest-texel distance CDF, rank error curve)");
+      "How compressible synthetic and measured BTFs are for any method: nearest-neighbour texel distances, greedy "
+      "texel codebook size and linear rank per tolerance, with ratio_u8 bounds; CSV, tables and gnuplot charts "
+      "(nearest-texel distance CDF, rank error curve)");
   cmd->add_option("-o,--output", args->output, "Output folder (compressibility.csv, .dat, charts)")->capture_default_str();
-  cmd->add_option("--patterns", args->patterns, "Synthetic BTF patterns (comma-separated)")->capture_default_str();
+  cmd->add_option("--patterns", args->patterns, "Synthetic BTF patterns (comma-separated; '' for none)")
+      ->capture_default_str();
+  cmd->add_option("--inputs", args->inputs,
+                  "Measured BTF image folders (comma-separated), analysed on a centred window of --size texels");
+  cmd->add_option("--max-view-theta", args->max_view_theta,
+                  "Keep only the views up to this elevation in degrees (0: the view at the pole alone)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 90.0f));
   cmd->add_option("--size", args->size, "Texels per side (the analysis is O(texels^2))")
       ->capture_default_str()
       ->check(CLI::Range(2, 128));

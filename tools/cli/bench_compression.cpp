@@ -1,10 +1,14 @@
 // `btf bench compression [-o DIR]`: rate-distortion and speed of the multi-level VQ compressor
 // against per-view PCA at equal storage, on the synthetic BTFs of `btf-datagen btf` (streamed from
-// the generator, cached in memory when small), and BRDF compression of the real RGL materials and
-// the generator presets as one-texel BTFs beside published compact sizes.
+// the generator, cached in memory when small) and on measured BTFs (--inputs: image folders, whole
+// or partial), and BRDF compression of the real RGL materials and the generator presets as
+// one-texel BTFs beside published compact sizes. Every setting is judged by rel_rmse (linear),
+// rel_rmse of the displayed colours and mean SSIM (io/btf_quality.h), beside the data's own noise
+// floor.
 //   DIR/compression.csv       one row per (method, material, setting)
 //   DIR/brdf_compression.csv  one row per BRDF
-//   DIR/compression_ratio_vs_error.{png,svg}, DIR/compression_speed_vs_error.{png,svg}
+//   DIR/compression_ratio_vs_error.{png,svg}, DIR/compression_ratio_vs_display_error.{png,svg},
+//   DIR/compression_ratio_vs_ssim.{png,svg}, DIR/compression_speed_vs_error.{png,svg}
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -21,6 +25,8 @@
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf/io/atomic_file.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/btf_quality.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf_input.h"
 #include "comma_list.h"
@@ -46,7 +52,27 @@ struct Args {
   float chroma_scale = 0.5f;
   bool quick = false;
   bool brdfs = true;
+  std::string inputs;  // measured BTF image folders, comma-separated
+  // A published point to mark on the charts: "label,rel_rmse_display,mean_ssim,ratio_u8".
+  std::string reference_point;
 };
+
+struct ReferencePoint {
+  std::string label;
+  double rel_rmse_display = 0, mean_ssim = 0, ratio_u8 = 0;
+};
+
+std::optional<ReferencePoint> parseReferencePoint(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const std::vector<std::string> parts = splitCommaList(text);
+  if (parts.size() != 4)
+    throw Error("--reference-point '" + text + "': expected LABEL,REL_RMSE_DISPLAY,MEAN_SSIM,RATIO_U8");
+  try {
+    return ReferencePoint{parts[0], std::stod(parts[1]), std::stod(parts[2]), std::stod(parts[3])};
+  } catch (const std::exception&) {
+    throw Error("--reference-point '" + text + "': the last three fields must be numbers");
+  }
+}
 
 struct Row {
   std::string method, material;
@@ -55,7 +81,18 @@ struct Row {
   int levels = 0, components = -1;
   std::uint64_t bytes = 0;
   double ratio_u8 = 0, ratio_f32 = 0, rel_rmse = 0, psnr_db = 0, compression_s = 0, evals_per_s = 0;
+  double mean_ssim = 0, rel_rmse_display = 0, noise_rel_rmse = 0;
 };
+
+// The measures of a decoded BTF against its source (rel_rmse, psnr_db, displayed error, SSIM).
+void measureErrors(Row& r, const BtfSource& source, const BtfSource& decoded) {
+  const BtfErrorStats e = compareBtf(source, decoded);
+  r.rel_rmse = e.rel_rmse;
+  r.psnr_db = e.psnr_db;
+  const BtfSsimStats ssim = compareBtfSsim(source, decoded);
+  r.mean_ssim = ssim.mean_ssim;
+  r.rel_rmse_display = ssim.rel_rmse_display;
+}
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -72,7 +109,7 @@ double decodeRate(const BtfLookup& lookup, std::uint64_t seed) {
     const glm::vec2 a = rng.uniform2D(), b = rng.uniform2D();
     q = {std::min(int(a.x * float(lookup.lookupWidth())), lookup.lookupWidth() - 1),
          std::min(int(a.y * float(lookup.lookupHeight())), lookup.lookupHeight() - 1),
-         std::min(int(b.x * kBtfDirectionCount), kBtfDirectionCount - 1),
+         lookup.lookupViews().view(std::min(int(b.x * float(lookup.lookupViews().count())), lookup.lookupViews().count() - 1)),
          std::min(int(b.y * kBtfDirectionCount), kBtfDirectionCount - 1)};
   }
   const auto start = std::chrono::steady_clock::now();
@@ -102,14 +139,12 @@ Row measureVq(const BtfSource& source, const std::string& material, float epsilo
   r.bytes = std::filesystem::file_size(scratch);
   const VqBtf reread = VqBtf::read(scratch);
   std::filesystem::remove(scratch);
-  const BtfErrorStats e = compareBtf(source, reread);
+  measureErrors(r, source, reread);
   r.method = "vq";
   r.material = material;
   r.epsilon = epsilon;
   r.chroma_epsilon = chroma_epsilon;
   r.levels = levels;
-  r.rel_rmse = e.rel_rmse;
-  r.psnr_db = e.psnr_db;
   r.evals_per_s = decodeRate(reread, 7);
   return r;
 }
@@ -123,15 +158,14 @@ Row measurePca(const BtfSource& source, const std::string& material, int compone
   r.material = material;
   r.components = components;
   r.bytes = pca.storedBytes();
-  const BtfErrorStats e = compareBtf(source, pca);
-  r.rel_rmse = e.rel_rmse;
-  r.psnr_db = e.psnr_db;
+  measureErrors(r, source, pca);
   r.evals_per_s = decodeRate(pca, 7);
   return r;
 }
 
-void finish(Row& r, const BtfSource& source) {
+void finish(Row& r, const BtfSource& source, double noise_rel_rmse) {
   r.texels = source.width() * source.height();
+  r.noise_rel_rmse = noise_rel_rmse;
   r.ratio_u8 = double(source.entryCount()) * 3.0 / double(r.bytes);
   r.ratio_f32 = 4.0 * r.ratio_u8;
 }
@@ -139,7 +173,7 @@ void finish(Row& r, const BtfSource& source) {
 void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
   writeFileAtomically(path, [&](std::ofstream& out) {
     out << "method,material,texels,epsilon,levels,components,bytes,ratio_u8,ratio_f32,rel_rmse,psnr_db,compression_s,"
-           "evals_per_s,chroma_epsilon\n";
+           "evals_per_s,chroma_epsilon,mean_ssim,rel_rmse_display,noise_rel_rmse\n";
     for (const Row& r : rows) {
       out << r.method << ',' << r.material << ',' << r.texels << ',';
       if (r.epsilon >= 0) out << r.epsilon;
@@ -150,7 +184,7 @@ void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
       out << ',' << r.bytes << ',' << r.ratio_u8 << ',' << r.ratio_f32 << ',' << r.rel_rmse << ',' << r.psnr_db << ','
           << r.compression_s << ',' << r.evals_per_s << ',';
       if (r.chroma_epsilon >= 0) out << r.chroma_epsilon;
-      out << '\n';
+      out << ',' << r.mean_ssim << ',' << r.rel_rmse_display << ',' << r.noise_rel_rmse << '\n';
     }
   });
 }
@@ -159,21 +193,35 @@ std::string seriesOf(const Row& r) {
   return r.method == "vq" ? r.material + " vq " + std::to_string(r.levels) + "-level" : r.material + " pca";
 }
 
-tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const std::vector<Row>& rows) {
+tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const std::vector<Row>& rows,
+                                 const std::optional<ReferencePoint>& mark) {
   std::vector<std::string> series;
-  std::map<std::string, std::ostringstream> ratio, speed;
-  for (const Row& r : rows) {
+  for (const Row& r : rows)
+    if (std::find(series.begin(), series.end(), seriesOf(r)) == series.end()) series.push_back(seriesOf(r));
+  // Each series' points in order of ratio, so its line does not zigzag (PCA rows come in the order
+  // of the VQ budgets of every level count).
+  std::vector<Row> sorted = rows;
+  std::stable_sort(sorted.begin(), sorted.end(), [](const Row& a, const Row& b) { return a.ratio_u8 < b.ratio_u8; });
+  std::map<std::string, std::ostringstream> ratio, speed, display, ssim;
+  for (const Row& r : sorted) {
     const std::string s = seriesOf(r);
-    if (!ratio.count(s)) series.push_back(s);
     ratio[s] << r.rel_rmse << ' ' << r.ratio_u8 << '\n';
     speed[s] << r.rel_rmse << ' ' << r.evals_per_s << '\n';
+    display[s] << r.rel_rmse_display << ' ' << r.ratio_u8 << '\n';
+    ssim[s] << r.mean_ssim << ' ' << r.ratio_u8 << '\n';
   }
   std::ostringstream data;
   for (std::size_t i = 0; i < series.size(); ++i) {
     data << "$ratio" << i << " << EOD\n" << ratio[series[i]].str() << "EOD\n";
     data << "$speed" << i << " << EOD\n" << speed[series[i]].str() << "EOD\n";
+    data << "$display" << i << " << EOD\n" << display[series[i]].str() << "EOD\n";
+    data << "$ssim" << i << " << EOD\n" << ssim[series[i]].str() << "EOD\n";
   }
-  auto plot = [&](const std::string& prefix) {
+  if (mark) {
+    data << "$mark_display << EOD\n" << mark->rel_rmse_display << ' ' << mark->ratio_u8 << "\nEOD\n";
+    data << "$mark_ssim << EOD\n" << mark->mean_ssim << ' ' << mark->ratio_u8 << "\nEOD\n";
+  }
+  auto plot = [&](const std::string& prefix, bool with_mark = false) {
     std::ostringstream p;
     p << "plot ";
     for (std::size_t i = 0; i < series.size(); ++i) {
@@ -181,6 +229,9 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const std:
       p << (i ? ", " : "") << '$' << prefix << i << " using 1:2 with linespoints " << (pca ? "dt 2 pt 6" : "pt 7")
         << " ps 1.2 title " << tools::gnuplotQuote(series[i]);
     }
+    if (with_mark && mark)
+      p << ", $mark_" << prefix << " using 1:2 with points pt 3 ps 2.5 lc rgb 'black' title "
+        << tools::gnuplotQuote(mark->label);
     return p.str() + "\n";
   };
   const std::vector<tools::GnuplotChart> charts = {
@@ -188,6 +239,13 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const std:
        "set title 'Compression ratio (8-bit raw) vs rel_rmse: multi-level VQ and per-view PCA at equal storage'\n"
        "set logscale xy\nset xlabel 'rel_rmse (RMSE / RMS of the data)'\nset ylabel 'ratio_u8'\n"
        "set arrow from graph 0, first 1000 to graph 1, first 1000 nohead dt 3\n" + plot("ratio")},
+      {"compression_ratio_vs_display_error",
+       "set title 'Compression ratio vs rel_rmse of the displayed colours (sRGB, clipped to white)'\n"
+       "set logscale xy\nset xlabel 'rel_rmse of the sRGB-encoded values'\nset ylabel 'ratio_u8'\nset key inside left top\n" +
+           plot("display", true)},
+      {"compression_ratio_vs_ssim",
+       "set title 'Compression ratio vs mean SSIM (sRGB luma, 8 x 8 windows, all images)'\n"
+       "set logscale y\nset xlabel 'mean SSIM'\nset ylabel 'ratio_u8'\nset key inside right top\n" + plot("ssim", true)},
       {"compression_speed_vs_error",
        "set title 'Decoding speed from the compressed form vs rel_rmse (one core, random entries)'\n"
        "set logscale xy\nset xlabel 'rel_rmse'\nset ylabel 'entries decoded per second'\n" + plot("speed")},
@@ -240,14 +298,52 @@ void benchBrdfs(const std::filesystem::path& folder, float epsilon, bool quick) 
               "Bagher et al. 2016 3.2 KB, a neural BRDF 675 weights (2.7 KB as float32).\n");
 }
 
+// One material of the table: every VQ setting, then PCA at the storage of each VQ setting.
+void benchMaterial(const Args& args, const std::string& name, const BtfSource& source, const std::vector<float>& epsilons,
+                   const std::vector<int>& levels, std::vector<Row>& rows) {
+  const double noise = estimateBtfNoiseFloor(source).rel_rmse;
+  std::printf("%-8s %s, %d x %d texels; noise floor rel_rmse %.4f (btf_quality.h)\n", name.c_str(),
+              source.views().describe().c_str(), source.width(), source.height(), noise);
+  std::vector<std::uint64_t> vq_bytes;
+  for (int l : levels)
+    for (float e : epsilons) {
+      const float ce = chromaEpsilonFor(e, args.chroma_scale);
+      Row r = measureVq(source, name, e, ce, l, std::filesystem::path(args.output) / (name + ".part.btfz"));
+      finish(r, source, noise);
+      vq_bytes.push_back(r.bytes);
+      std::printf("%-8s vq  levels %d eps %-7g chroma %-7g ratio_u8 %8.1f rel_rmse %.4f display %.4f ssim %.4f  %6.1f s  "
+                  "%.3g entries/s\n",
+                  name.c_str(), l, e, ce, r.ratio_u8, r.rel_rmse, r.rel_rmse_display, r.mean_ssim, r.compression_s,
+                  r.evals_per_s);
+      std::fflush(stdout);
+      rows.push_back(r);
+    }
+  // PCA at the storage of every VQ setting (equal storage), at most one row per component count.
+  std::vector<int> done;
+  for (std::uint64_t budget : vq_bytes) {
+    const int k = pcaComponentsForBudget(source.width(), source.height(), budget, PcaPrecision::Half,
+                                         source.views().count());
+    if (k < 0 || std::find(done.begin(), done.end(), k) != done.end()) continue;
+    done.push_back(k);
+    Row r = measurePca(source, name, k);
+    finish(r, source, noise);
+    std::printf("%-8s pca k %-3d (budget %llu bytes) ratio_u8 %8.1f rel_rmse %.4f display %.4f ssim %.4f  %6.1f s\n",
+                name.c_str(), k, static_cast<unsigned long long>(budget), r.ratio_u8, r.rel_rmse, r.rel_rmse_display,
+                r.mean_ssim, r.compression_s);
+    std::fflush(stdout);
+    rows.push_back(r);
+  }
+}
+
 void runBenchCompression(const Args& args) {
   std::filesystem::create_directories(args.output);
+  const std::optional<ReferencePoint> mark = parseReferencePoint(args.reference_point);
   std::vector<std::string> patterns = splitCommaList(args.patterns);
   std::vector<float> epsilons = args.epsilons;
   std::vector<int> levels = args.levels;
   int size = args.size;
   if (args.quick) {
-    patterns = {patterns.front()};
+    if (!patterns.empty()) patterns = {patterns.front()};
     size = 8;
     epsilons = {0.04f};
     levels = {1, 3};
@@ -262,34 +358,20 @@ void runBenchCompression(const Args& args) {
     if (double(generated->entryCount()) * sizeof(Rgb) <= 2.0 * (1ull << 30))
       cached = std::make_unique<BtfData>(BtfData::copyOf(*generated));
     const BtfSource& source = cached ? static_cast<const BtfSource&>(*cached) : *generated;
-    std::vector<std::uint64_t> vq_bytes;
-    for (int l : levels)
-      for (float e : epsilons) {
-        const float ce = chromaEpsilonFor(e, args.chroma_scale);
-        Row r = measureVq(source, name, e, ce, l, std::filesystem::path(args.output) / (name + ".part.btfz"));
-        finish(r, source);
-        vq_bytes.push_back(r.bytes);
-        std::printf("%-8s vq  levels %d eps %-7g chroma %-7g ratio_u8 %8.1f rel_rmse %.4f psnr_db %5.1f  %6.1f s  %.3g entries/s\n",
-                    name.c_str(), l, e, ce, r.ratio_u8, r.rel_rmse, r.psnr_db, r.compression_s, r.evals_per_s);
-        std::fflush(stdout);
-        rows.push_back(r);
-      }
-    // PCA at the storage of every VQ setting (equal storage), at most one row per component count.
-    std::vector<int> done;
-    for (std::uint64_t budget : vq_bytes) {
-      const int k = pcaComponentsForBudget(source.width(), source.height(), budget);
-      if (k < 0 || std::find(done.begin(), done.end(), k) != done.end()) continue;
-      done.push_back(k);
-      Row r = measurePca(source, name, k);
-      finish(r, source);
-      std::printf("%-8s pca k %-3d (budget %llu bytes) ratio_u8 %8.1f rel_rmse %.4f psnr_db %5.1f  %6.1f s\n", name.c_str(),
-                  k, static_cast<unsigned long long>(budget), r.ratio_u8, r.rel_rmse, r.psnr_db, r.compression_s);
-      std::fflush(stdout);
-      rows.push_back(r);
-    }
+    benchMaterial(args, name, source, epsilons, levels, rows);
   }
+  for (const std::string& input : splitCommaList(args.inputs)) {
+    const BtfImageFolder folder = BtfImageFolder::open(input);
+    // In memory when it fits in 2 GiB (a one-view slice of 256 x 256 texels: 64 MiB).
+    std::unique_ptr<BtfData> cached;
+    if (double(folder.entryCount()) * sizeof(Rgb) <= 2.0 * (1ull << 30))
+      cached = std::make_unique<BtfData>(BtfData::copyOf(folder));
+    const BtfSource& source = cached ? static_cast<const BtfSource&>(*cached) : folder;
+    benchMaterial(args, folder.name(), source, epsilons, levels, rows);
+  }
+  if (rows.empty()) throw Error("bench compression: nothing to measure (no --patterns and no --inputs)");
   writeCsv(std::filesystem::path(args.output) / "compression.csv", rows);
-  const tools::GnuplotOutcome charts = drawCharts(args.output, rows);
+  const tools::GnuplotOutcome charts = drawCharts(args.output, rows, mark);
   if (args.brdfs) benchBrdfs(args.output, args.quick ? 0.04f : 0.01f, args.quick);
   std::printf("\nwrote %s/compression.csv", args.output.c_str());
   for (const auto& f : charts.files) std::printf(", %s", f.filename().c_str());
@@ -317,6 +399,12 @@ void addBenchCompressionCommand(CLI::App& bench) {
   cmd->add_option("--levels", args->levels, "VQ level counts")->delimiter(',')->capture_default_str()->check(CLI::Range(1, 3));
   cmd->add_flag("--quick", args->quick, "One pattern at 8 x 8, one tolerance, two BRDFs (for tests)");
   cmd->add_flag("!--no-brdfs", args->brdfs, "Skip the BRDF table");
+  cmd->add_option("--inputs", args->inputs,
+                  "Measured BTF image folders to bench beside the patterns (comma-separated; --patterns '' for "
+                  "these alone)");
+  cmd->add_option("--reference-point", args->reference_point,
+                  "A published result to mark on the display-error and SSIM charts: LABEL,REL_RMSE_DISPLAY,MEAN_SSIM,"
+                  "RATIO_U8");
   cmd->callback([args] { runBenchCompression(*args); });
 }
 

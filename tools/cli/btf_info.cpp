@@ -15,21 +15,29 @@ namespace {
 
 void runFolderInfo(const std::filesystem::path& folder, bool json) {
   const BtfImageFolder btf = BtfImageFolder::open(folder);
-  const std::string ext = btf.imagePath(0, 0).extension().string();
+  const int views = btf.views().count();
+  const std::string ext = btf.imagePath(btf.views().view(0), 0).extension().string();
+  const std::optional<BtfTransfer> transfer = btf.transfer();
   if (json) {
     std::cout << nlohmann::json{{"file", folder.string()},
                                 {"format", "image-folder BTF"},
                                 {"texels", {btf.width(), btf.height()}},
-                                {"images", kBtfDirectionCount * kBtfDirectionCount},
+                                {"views", btf.views().views()},
+                                {"images", views * kBtfDirectionCount},
                                 {"image_type", ext},
+                                {"transfer", transfer ? btfTransferName(*transfer) : "linear (float)"},
                                 {"value_scale", btf.valueScale()}}
                      .dump(2)
               << '\n';
     return;
   }
-  std::printf("%s: image-folder BTF, %d x %d texels, 81 views x 81 lights (6561 %s images)\n", folder.c_str(),
-              btf.width(), btf.height(), ext.c_str());
-  std::printf("value scale %g (code / max code x scale = apparent BRDF, 1/sr)\n", btf.valueScale());
+  std::printf("%s: image-folder BTF, %d x %d texels, %s x 81 lights (%d %s images)\n", folder.c_str(), btf.width(),
+              btf.height(), btf.views().describe().c_str(), views * kBtfDirectionCount, ext.c_str());
+  if (transfer)
+    std::printf("integer images: value = %s(code / max code) x %g (apparent BRDF, 1/sr)\n",
+                *transfer == BtfTransfer::Srgb ? "srgb_to_linear" : "", btf.valueScale());
+  else
+    std::printf("float images: values are the apparent BRDF (1/sr)\n");
 }
 
 void runBtfzInfo(const std::filesystem::path& file, bool json) {
@@ -44,6 +52,7 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
   const nlohmann::json facts{{"file", file.string()},
                              {"format", "btfz (multi-level VQ)"},
                              {"texels", {btf.width(), btf.height()}},
+                             {"views", btf.views().views()},
                              {"epsilon", btf.options().epsilon},
                              {"chroma_epsilon", btf.options().chroma_epsilon},
                              {"levels", btf.options().levels},
@@ -56,7 +65,8 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
     std::cout << facts.dump(2) << '\n';
     return;
   }
-  std::printf("%s: btfz (multi-level VQ), %d x %d texels x 81 views x 81 lights\n", file.c_str(), btf.width(), btf.height());
+  std::printf("%s: btfz (multi-level VQ), %d x %d texels x %s x 81 lights\n", file.c_str(), btf.width(), btf.height(),
+              btf.views().describe().c_str());
   std::printf("epsilon %g, chroma_epsilon %g, %d levels; codebook entries per level:", btf.options().epsilon,
               btf.options().chroma_epsilon, btf.options().levels);
   for (std::size_t n : btf.stats().codebook_entries) std::printf(" %zu", n);

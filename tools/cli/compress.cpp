@@ -12,6 +12,7 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
+#include "btf/io/btf_quality.h"
 #include "btf_input.h"
 #include "commands.h"
 
@@ -42,6 +43,7 @@ void runCompress(const CompressArgs& args) {
                         {"input_kind", input.description},
                         {"output", args.out},
                         {"texels", {input.source->width(), input.source->height()}},
+                        {"views", input.source->views().views()},
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"levels", args.vq.levels},
@@ -56,22 +58,36 @@ void runCompress(const CompressArgs& args) {
     const BtfErrorStats e = compareBtf(*input.source, reread);
     report["rel_rmse"] = e.rel_rmse;
     report["psnr_db"] = e.psnr_db;
+    const BtfSsimStats ssim = compareBtfSsim(*input.source, reread);
+    report["rel_rmse_display"] = ssim.rel_rmse_display;
+    report["mean_ssim"] = ssim.mean_ssim;
+    report["min_image_ssim"] = ssim.min_image_ssim;
+    report["ssim_white"] = ssim.white;
+    const BtfNoiseFloor noise = estimateBtfNoiseFloor(*input.source);
+    report["noise_rel_rmse"] = noise.rel_rmse;
+    report["rel_rmse_over_noise"] = noise.rel_rmse > 0 ? e.rel_rmse / noise.rel_rmse : 0.0;
   }
   if (args.json) {
     std::cout << report.dump(2) << '\n';
     return;
   }
-  std::printf("%s: %d x %d texels x 81 views x 81 lights (%s)\n", args.in.c_str(), input.source->width(),
-              input.source->height(), input.description.c_str());
+  std::printf("%s: %d x %d texels x %s x 81 lights (%s)\n", args.in.c_str(), input.source->width(),
+              input.source->height(), input.source->views().describe().c_str(), input.description.c_str());
   std::printf("wrote %s: %llu bytes, ratio_u8 %.1f, ratio_f32 %.1f, %.2f s\n", args.out.c_str(),
               static_cast<unsigned long long>(bytes), report["ratio_u8"].get<double>(), report["ratio_f32"].get<double>(),
               seconds);
   std::printf("codebook entries per level:");
   for (std::size_t n : compressed.stats().codebook_entries) std::printf(" %zu", n);
   std::printf("\n");
-  if (args.verify)
+  if (args.verify) {
     std::printf("rel_rmse %.5f, psnr_db %.2f (decoded from the file against the input)\n",
                 report["rel_rmse"].get<double>(), report["psnr_db"].get<double>());
+    std::printf("displayed (sRGB, white %g): rel_rmse %.5f, mean SSIM %.4f (worst image %.4f)\n",
+                report["ssim_white"].get<double>(), report["rel_rmse_display"].get<double>(),
+                report["mean_ssim"].get<double>(), report["min_image_ssim"].get<double>());
+    std::printf("the input's noise floor: rel_rmse %.4f (the error is %.2f x it)\n", report["noise_rel_rmse"].get<double>(),
+                report["rel_rmse_over_noise"].get<double>());
+  }
 }
 
 void runDecompress(const std::string& in, const std::string& out, const std::string& format_name) {
@@ -83,7 +99,8 @@ void runDecompress(const std::string& in, const std::string& out, const std::str
   if (std::filesystem::path(in).extension() != ".btfz") throw FileError(in, "is not a .btfz file");
   const VqBtf compressed = VqBtf::read(in);
   writeBtfImageFolder(compressed, out, options);
-  std::printf("wrote %s: %d x %d texels, 6561 %s images\n", out.c_str(), compressed.width(), compressed.height(),
+  std::printf("wrote %s: %d x %d texels, %s, %d %s images\n", out.c_str(), compressed.width(), compressed.height(),
+              compressed.views().describe().c_str(), compressed.views().count() * kBtfDirectionCount,
               btfImageFormatName(options.format).c_str());
 }
 

@@ -21,7 +21,6 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-constexpr int kPairCount = kBtfDirectionCount * kBtfDirectionCount;
 // Rows whose products with all texels are held at once (kOuterRows x T floats: 16 MiB at 16384
 // texels), and rows per parallel task. Both fixed, so Eigen sees the same product shapes (hence
 // the same summation order) whatever the thread count.
@@ -29,14 +28,16 @@ constexpr int kOuterRows = 256;
 constexpr int kTaskRows = 32;
 
 // The sampled (view, light) pairs as indices view * 81 + light, ascending: a partial Fisher-Yates
-// shuffle of all pairs driven by the seed.
-std::vector<int> chooseDirections(int directions, std::uint64_t seed) {
-  std::vector<int> pairs(kPairCount);
-  std::iota(pairs.begin(), pairs.end(), 0);
-  if (directions == 0 || directions >= kPairCount) return pairs;
+// shuffle of the pairs of the views held, driven by the seed.
+std::vector<int> chooseDirections(const BtfViewSet& views, int directions, std::uint64_t seed) {
+  std::vector<int> pairs;
+  for (const int v : views.views())
+    for (int l = 0; l < kBtfDirectionCount; ++l) pairs.push_back(v * kBtfDirectionCount + l);
+  const int held = int(pairs.size());
+  if (directions == 0 || directions >= held) return pairs;
   Rng rng(seed, 0x636f6d7072657373ULL);  // a stream of its own ("compress")
   for (int i = 0; i < directions; ++i) {
-    const int j = i + int(rng.uniformInt(std::uint32_t(kPairCount - i)));
+    const int j = i + int(rng.uniformInt(std::uint32_t(held - i)));
     std::swap(pairs[std::size_t(i)], pairs[std::size_t(j)]);
   }
   pairs.resize(std::size_t(directions));
@@ -221,14 +222,15 @@ void checkOptions(const BtfSource& source, const CompressibilityOptions& options
 
 }  // namespace
 
-double rankRatioU8Bound(int texels, int rank) {
+double rankRatioU8Bound(int texels, int rank, int pairs) {
   if (rank <= 0) return std::numeric_limits<double>::infinity();
-  return double(texels) * kPairCount * 3.0 / (2.0 * double(rank) * (double(texels) + kPairCount));
+  return double(texels) * pairs * 3.0 / (2.0 * double(rank) * (double(texels) + pairs));
 }
 
 CompressibilityReport analyzeCompressibility(const BtfSource& source, const CompressibilityOptions& options) {
   checkOptions(source, options);
-  const std::vector<int> pairs = chooseDirections(options.directions, options.seed);
+  const std::vector<int> pairs = chooseDirections(source.views(), options.directions, options.seed);
+  const int held_pairs = source.views().count() * kBtfDirectionCount;
   const RowMatrix x = readLuminance(source, pairs);
   const Texels data(x);
   const double energy = std::accumulate(data.norm2.begin(), data.norm2.end(), 0.0);
@@ -274,7 +276,7 @@ CompressibilityReport analyzeCompressibility(const BtfSource& source, const Comp
     while (std::size_t(k) < squared.size() && report.rank_rel_error[std::size_t(k)] > g.epsilon) ++k;
     a.rank = k;
     a.rank_rel_error = report.rank_rel_error[std::size_t(k)];
-    a.ratio_u8_bound = rankRatioU8Bound(report.texels, k);
+    a.ratio_u8_bound = rankRatioU8Bound(report.texels, k, held_pairs);
     report.at_epsilon.push_back(a);
   }
   return report;

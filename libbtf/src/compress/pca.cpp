@@ -9,7 +9,8 @@
 
 namespace btf {
 
-std::uint64_t PcaBtf::storedBytesFor(int width, int height, int components, PcaPrecision precision) {
+std::uint64_t PcaBtf::storedBytesFor(int width, int height, int components, PcaPrecision precision, int views) {
+  if (views < 1 || views > kBtfDirectionCount) throw Error("PCA: " + std::to_string(views) + " views is outside 1..81");
   if (width < 1 || height < 1) throw Error("PCA: BTF size " + std::to_string(width) + " x " + std::to_string(height) + " is invalid");
   if (components < 0 || components > kPcaDimension)
     throw Error("PCA: " + std::to_string(components) + " components is outside 0.." + std::to_string(kPcaDimension));
@@ -20,29 +21,31 @@ std::uint64_t PcaBtf::storedBytesFor(int width, int height, int components, PcaP
                                  + k * kPcaDimension * value_bytes  // basis
                                  + k * 4                            // component scales, float32
                                  + texels * k * value_bytes;        // coefficients
-  return kPcaHeaderBytes + std::uint64_t(kBtfDirectionCount) * per_view;
+  return kPcaHeaderBytes + std::uint64_t(views) * per_view;
 }
 
-int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget, PcaPrecision precision) {
-  const std::uint64_t base = PcaBtf::storedBytesFor(width, height, 0, precision);
+int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget, PcaPrecision precision, int views) {
+  const std::uint64_t base = PcaBtf::storedBytesFor(width, height, 0, precision, views);
   if (byte_budget < base) return -1;
-  const std::uint64_t per_component = PcaBtf::storedBytesFor(width, height, 1, precision) - base;
+  const std::uint64_t per_component = PcaBtf::storedBytesFor(width, height, 1, precision, views) - base;
   return int(std::min<std::uint64_t>(kPcaDimension, (byte_budget - base) / per_component));
 }
 
 PcaBtf compressPcaToBytes(const BtfSource& source, std::uint64_t byte_budget, PcaPrecision precision) {
-  const int k = pcaComponentsForBudget(source.width(), source.height(), byte_budget, precision);
+  const int views = source.views().count();
+  const int k = pcaComponentsForBudget(source.width(), source.height(), byte_budget, precision, views);
   if (k < 0)
     throw Error("PCA of " + source.name() + ": a budget of " + std::to_string(byte_budget) +
                 " bytes cannot hold even the per-view means (" +
-                std::to_string(PcaBtf::storedBytesFor(source.width(), source.height(), 0, precision)) + " bytes)");
+                std::to_string(PcaBtf::storedBytesFor(source.width(), source.height(), 0, precision, views)) +
+                " bytes)");
   return compressPca(source, k, precision);
 }
 
 void PcaBtf::loadView(int view, std::vector<Rgb>& out) const {
-  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
+  view_set_.require(view, name_);
   using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const View& v = views_[std::size_t(view)];
+  const View& v = views_[std::size_t(view_set_.slot(view))];
   const Eigen::Index texels = Eigen::Index(texelCount()), k = components_;
   // decoded(t, d) = sum_j c_tj b_dj, column-major so that each (light, channel) column is contiguous.
   Eigen::MatrixXf decoded = Eigen::MatrixXf::Zero(texels, kPcaDimension);
@@ -62,7 +65,7 @@ void PcaBtf::loadView(int view, std::vector<Rgb>& out) const {
 }
 
 Rgb PcaBtf::value(int x, int y, int view, int light) const {
-  const View& v = views_[std::size_t(view)];
+  const View& v = views_[std::size_t(view_set_.slot(view))];
   const std::size_t k = std::size_t(components_);
   const std::size_t t = std::size_t(y) * std::size_t(width_) + std::size_t(x);
   const std::size_t d = 3 * std::size_t(light);

@@ -141,46 +141,49 @@ struct PcaViewFactorizer {
 
 PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precision) {
   PcaBtf pca;
-  PcaBtf::storedBytesFor(source.width(), source.height(), components, precision);  // validates
+  const BtfViewSet& views = source.views();
+  const int view_count = views.count();
+  PcaBtf::storedBytesFor(source.width(), source.height(), components, precision, view_count);  // validates
   pca.width_ = source.width();
   pca.height_ = source.height();
   pca.components_ = components;
   pca.precision_ = precision;
   pca.name_ = source.name() + " (pca k=" + std::to_string(components) + ")";
-  pca.views_.resize(kBtfDirectionCount);
-  std::vector<PcaViewFactorizer::Stats> stats(kBtfDirectionCount);
+  pca.view_set_ = views;
+  pca.views_.resize(std::size_t(view_count));
+  std::vector<PcaViewFactorizer::Stats> stats(std::size_t(view_count), PcaViewFactorizer::Stats{});
   const auto texels = Eigen::Index(source.texelCount());
   const std::size_t expected = std::size_t(kBtfDirectionCount) * std::size_t(texels);
 
   // Views are read one at a time in order (readers need not be thread-safe) and factorized in
   // parallel; at most one view per worker is in memory.
   struct Job {
-    int view;
+    int slot;
     std::vector<Rgb> data;
   };
-  Progress progress("PCA of " + source.name(), kBtfDirectionCount);
-  int next_view = 0;
+  Progress progress("PCA of " + source.name(), view_count);
+  int next_slot = 0;
   const auto tokens = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
   tbb::parallel_pipeline(
       tokens,
       tbb::make_filter<void, std::shared_ptr<Job>>(
           tbb::filter_mode::serial_in_order,
           [&](tbb::flow_control& control) -> std::shared_ptr<Job> {
-            if (next_view == kBtfDirectionCount) {
+            if (next_slot == view_count) {
               control.stop();
               return nullptr;
             }
             auto job = std::make_shared<Job>();
-            job->view = next_view++;
-            source.loadView(job->view, job->data);
+            job->slot = next_slot++;
+            source.loadView(views.view(job->slot), job->data);
             if (job->data.size() != expected)
-              throw Error(source.name() + ": view " + std::to_string(job->view) + " has " +
+              throw Error(source.name() + ": view " + std::to_string(views.view(job->slot)) + " has " +
                           std::to_string(job->data.size()) + " values, expected " + std::to_string(expected));
             return job;
           }) &
           tbb::make_filter<std::shared_ptr<Job>, void>(tbb::filter_mode::parallel, [&](std::shared_ptr<Job> job) {
-            pca.views_[std::size_t(job->view)] = PcaViewFactorizer::factorize(
-                job->data, texels, components, precision, stats[std::size_t(job->view)]);
+            pca.views_[std::size_t(job->slot)] = PcaViewFactorizer::factorize(
+                job->data, texels, components, precision, stats[std::size_t(job->slot)]);
             progress.advance();
           }));
 

@@ -143,7 +143,8 @@ double rmsOf(std::size_t n, F&& norm_of) {
 class Compressor {
  public:
   Compressor(const BtfSource& source, const VqOptions& options, VqBtf::Impl& out)
-      : source_(source), options_(options), out_(out), texels_(source.texelCount()) {
+      : source_(source), options_(options), out_(out), texels_(source.texelCount()),
+        views_(std::size_t(source.views().count())) {
     for (int r = 0; r < kBtfRingCount; ++r) l1_.emplace_back(btfRingSize(r));
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
     // uniform light slice (level 2) and the uniform texel (level 3).
@@ -169,40 +170,43 @@ class Compressor {
       addLevel2Entry(e1.data(), sc.data(), ch.data());
     }
     if (options.levels == 3) {
-      l3_.emplace(kBtfDirectionCount);
-      std::vector<std::uint32_t> e(kBtfDirectionCount, 0);
-      std::vector<std::uint16_t> sc(kBtfDirectionCount, encodeVqScale(1.0f / 9.0f));
+      l3_.emplace(int(views_));
+      std::vector<std::uint32_t> e(views_, 0);
+      std::vector<std::uint16_t> sc(views_, encodeVqScale(1.0f / std::sqrt(float(views_))));
       addLevel3Entry(e.data(), sc.data());
     }
   }
 
   void run() {
-    const std::size_t T = texels_;
+    const std::size_t T = texels_, V = views_;
     if (options_.levels == 1) {
-      out_.top_index.resize(T * kBtfDirectionCount * kBtfRingCount);
+      out_.top_index.resize(T * V * kBtfRingCount);
       out_.top_scale.resize(out_.top_index.size());
       out_.top_chroma.resize(out_.top_index.size());
     } else if (options_.levels == 2) {
-      out_.top_index.resize(T * kBtfDirectionCount);
-      out_.top_scale.resize(T * kBtfDirectionCount);
+      out_.top_index.resize(T * V);
+      out_.top_scale.resize(T * V);
     } else {
-      view_index_.resize(T * kBtfDirectionCount);
-      view_scale_.resize(T * kBtfDirectionCount);
-      view_chroma_.resize(T * kBtfDirectionCount * kBtfRingCount);
+      view_index_.resize(T * V);
+      view_scale_.resize(T * V);
+      view_chroma_.resize(T * V * kBtfRingCount);
     }
-    Progress progress("vq compress " + source_.name(), kBtfDirectionCount + (options_.levels == 3 ? 1 : 0));
+    Progress progress("vq compress " + source_.name(), int(V) + (options_.levels == 3 ? 1 : 0));
     // The next view loads (a synthetic source renders it) while this one is compressed; one
     // loadView at a time, so sources need not be thread-safe beyond running on a worker thread.
+    // Per-view streams are indexed by the view's slot in the source's view set.
+    const BtfViewSet& views = source_.views();
     std::vector<Rgb> buffer, next;
-    source_.loadView(0, buffer);
+    source_.loadView(views.view(0), buffer);
     tbb::task_group loader;
-    for (int v = 0; v < kBtfDirectionCount; ++v) {
+    for (int slot = 0; slot < int(V); ++slot) {
+      const int v = views.view(slot);
       if (buffer.size() != T * kBtfDirectionCount)
         throw Error(source_.name() + ": view " + std::to_string(v) + " has the wrong number of values");
       checkValues(buffer, v);
-      if (v + 1 < kBtfDirectionCount) loader.run([this, v, &next] { source_.loadView(v + 1, next); });
-      level1(buffer, v);
-      if (options_.levels >= 2) level2(v);
+      if (slot + 1 < int(V)) loader.run([this, &views, slot, &next] { source_.loadView(views.view(slot + 1), next); });
+      level1(buffer, slot);
+      if (options_.levels >= 2) level2(slot);
       loader.wait();
       std::swap(buffer, next);
       progress.advance();
@@ -300,7 +304,7 @@ class Compressor {
   float radiusFor(double len, double rms) const { return Codebook::chordRadius(tolerance(len, rms)); }
 
   // ---- level 1 -------------------------------------------------------------------------------
-  void level1(const std::vector<Rgb>& buffer, int v) {
+  void level1(const std::vector<Rgb>& buffer, int slot) {
     const std::size_t T = texels_;
     // Luminance functions (unit directions and norms) and chroma functions, in parallel.
     units_.resize(T * kBtfDirectionCount);
@@ -356,11 +360,11 @@ class Compressor {
         },
         tbb::simple_partitioner());
     if (options_.levels == 1) {
-      const std::size_t base = std::size_t(v) * kBtfRingCount;
+      const std::size_t base = std::size_t(slot) * kBtfRingCount;
       parallelFor(T, [&](std::size_t t) {
         for (int r = 0; r < kBtfRingCount; ++r) {
           const std::size_t k = t * kBtfRingCount + std::size_t(r);
-          const std::size_t o = t * kBtfDirectionCount * kBtfRingCount + base + std::size_t(r);
+          const std::size_t o = t * views_ * kBtfRingCount + base + std::size_t(r);
           out_.top_index[o] = entries_[k];
           out_.top_scale[o] = scales_[k];
           out_.top_chroma[o] = chroma_[k];
@@ -434,7 +438,7 @@ class Compressor {
     return true;
   }
 
-  void level2(int v) {
+  void level2(int slot) {
     const std::size_t T = texels_;
     slices_.resize(T * kBtfDirectionCount);
     slice_norm_.resize(T);
@@ -469,7 +473,7 @@ class Compressor {
         const double ls = slice_norm_[t] * dot(unit(t).data(), recon, kBtfDirectionCount) / l2_norm2_[e];
         code = encodeVqScale(float(ls));
       }
-      const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+      const std::size_t k = t * views_ + std::size_t(slot);
       if (options_.levels == 2) {
         out_.top_index[k] = e;
         out_.top_scale[k] = code;
@@ -487,24 +491,24 @@ class Compressor {
   std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc) {
     float key[kBtfDirectionCount];
     double y2 = 0;
-    for (int v = 0; v < kBtfDirectionCount; ++v) {
+    for (std::size_t v = 0; v < views_; ++v) {
       key[v] = decodeVqScale(sc[v]);
       y2 += double(key[v]) * key[v] * l2_norm2_[e2[v]];
     }
-    out_.l3_index.insert(out_.l3_index.end(), e2, e2 + kBtfDirectionCount);
-    out_.l3_scale.insert(out_.l3_scale.end(), sc, sc + kBtfDirectionCount);
+    out_.l3_index.insert(out_.l3_index.end(), e2, e2 + views_);
+    out_.l3_scale.insert(out_.l3_scale.end(), sc, sc + views_);
     l3_norm2_.push_back(float(y2));
-    return l3_->add(key);
+    return l3_->add(std::span<const float>(key, views_));
   }
   // x . y and |y|^2 of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
   // (unscaled); nothing when the chromaticities do not pass.
   std::optional<double> level3Dot(std::size_t t, std::uint32_t entry) const {
     double xy = 0;
     const float* q = l3_->entry(entry);
-    for (int v = 0; v < kBtfDirectionCount; ++v) {
-      const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+    for (std::size_t v = 0; v < views_; ++v) {
+      const std::size_t k = t * views_ + v;
       const float s = decodeVqScale(view_scale_[k]);
-      const std::uint32_t a = view_index_[k], b = out_.l3_index[std::size_t(entry) * kBtfDirectionCount + std::size_t(v)];
+      const std::uint32_t a = view_index_[k], b = out_.l3_index[std::size_t(entry) * views_ + v];
       if (s > 0)
         for (int r = 0; r < kBtfRingCount; ++r) {
           const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
@@ -533,21 +537,21 @@ class Compressor {
     out_.top_index.assign(T, 0);
     out_.top_scale.assign(T, 0);
     texel_norm2_.resize(T);
-    std::vector<float> keys(T * kBtfDirectionCount);
+    const std::size_t V = views_;
+    std::vector<float> keys(T * V);
     parallelFor(T, [&](std::size_t t) {
       double x2 = 0, s2 = 0;
-      for (int v = 0; v < kBtfDirectionCount; ++v) {
-        const std::size_t k = t * kBtfDirectionCount + std::size_t(v);
+      for (std::size_t v = 0; v < V; ++v) {
+        const std::size_t k = t * V + v;
         const double s = decodeVqScale(view_scale_[k]);
         x2 += s * s * l2_norm2_[view_index_[k]];
         s2 += s * s;
       }
       texel_norm2_[t] = x2;
       const double inv = s2 > 0 ? 1.0 / std::sqrt(s2) : 0.0;
-      for (int v = 0; v < kBtfDirectionCount; ++v)
-        keys[t * kBtfDirectionCount + std::size_t(v)] = float(decodeVqScale(view_scale_[t * kBtfDirectionCount + std::size_t(v)]) * inv);
+      for (std::size_t v = 0; v < V; ++v) keys[t * V + v] = float(decodeVqScale(view_scale_[t * V + v]) * inv);
     });
-    auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * kBtfDirectionCount], kBtfDirectionCount); };
+    auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * V], V); };
     texel_rms_ = rmsOf(T, [&](std::size_t t) { return std::sqrt(texel_norm2_[t]); });
     auto radius = [&](std::size_t t) { return std::min(1.5f * radiusFor(std::sqrt(texel_norm2_[t]), texel_rms_), 1.415f); };
     std::vector<std::int64_t> match = initialMatches(T, [&](std::size_t t) { return texel_norm2_[t] > 0; });
@@ -559,8 +563,8 @@ class Compressor {
         },
         [&](std::size_t t) -> std::int64_t {
           std::uint16_t rel[kBtfDirectionCount];
-          for (int v = 0; v < kBtfDirectionCount; ++v) rel[v] = encodeVqScale(key(t)[std::size_t(v)]);
-          return addLevel3Entry(&view_index_[t * kBtfDirectionCount], rel);
+          for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v]);
+          return addLevel3Entry(&view_index_[t * V], rel);
         });
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);
@@ -576,6 +580,7 @@ class Compressor {
   const VqOptions& options_;
   VqBtf::Impl& out_;
   std::size_t texels_;
+  std::size_t views_;  // held by the source; per-view streams are indexed by slot (btf_view_set.h)
   std::vector<Codebook> l1_;
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;
@@ -610,6 +615,7 @@ VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   impl->width = source.width();
   impl->height = source.height();
   impl->name = source.name() + " (vq)";
+  impl->views = source.views();
   impl->options = options;
   auto work = [&] { Compressor(source, options, *impl).run(); };
   if (options.threads > 0) {

@@ -56,7 +56,7 @@ void VqBtf::Impl::prepare(const std::string& what) {
     checkPerRing(idx, stream, [&](int r) { return chromaCount(r); });
   };
   if (options.levels == 1) {
-    const std::size_t n = T * kBtfDirectionCount * kBtfRingCount;
+    const std::size_t n = T * viewCount() * kBtfRingCount;
     checkSize(top_index.size(), n, what, "top/index");
     checkSize(top_scale.size(), n, what, "top/scale");
     checkSize(top_chroma.size(), n, what, "top/chroma");
@@ -70,12 +70,12 @@ void VqBtf::Impl::prepare(const std::string& what) {
     checkL1(l2_index, "level2/index");
     checkChroma(l2_chroma, "level2/chroma");
     if (options.levels == 2) {
-      checkSize(top_index.size(), T * kBtfDirectionCount, what, "top/index");
-      checkSize(top_scale.size(), T * kBtfDirectionCount, what, "top/scale");
+      checkSize(top_index.size(), T * viewCount(), what, "top/index");
+      checkSize(top_scale.size(), T * viewCount(), what, "top/scale");
       checkIndices(top_index, l2Count(), what, "top/index");
     } else {
       if (l3_index.empty()) throw Error(what + ": the level-3 codebook is empty");
-      if (l3_index.size() % kBtfDirectionCount != 0) throw Error(what + ": the level-3 codebook has a partial entry");
+      if (l3_index.size() % viewCount() != 0) throw Error(what + ": the level-3 codebook has a partial entry");
       checkSize(l3_scale.size(), l3_index.size(), what, "level3/scale");
       checkIndices(l3_index, l2Count(), what, "level3/index");
       checkSize(top_index.size(), T, what, "top/index");
@@ -157,9 +157,11 @@ Rgb VqBtf::value(int x, int y, int view, int light) const {
   return m.sample(m.ringCode(t, view, int(m.lights[std::size_t(light)].ring)), light);
 }
 
+const BtfViewSet& VqBtf::views() const { return impl_->views; }
+
 void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
-  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
   const Impl& m = *impl_;
+  m.views.require(view, m.name);
   const std::size_t T = std::size_t(m.width) * std::size_t(m.height);
   out.resize(T * kBtfDirectionCount);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, T, 1024), [&](const tbb::blocked_range<std::size_t>& range) {

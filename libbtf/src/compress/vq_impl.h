@@ -35,6 +35,9 @@ inline float vqChromaStep(float chroma_epsilon) { return 0.25f * chroma_epsilon;
 struct VqBtf::Impl {
   int width = 0, height = 0;
   std::string name;
+  // The views held; the per-view streams below are indexed by slot (btf_view_set.h). Lookups of a
+  // view not held are the caller's error (VqBtf::values checks; value does not, like x and y).
+  BtfViewSet views;
   VqOptions options;
   VqStats stats;
 
@@ -46,11 +49,11 @@ struct VqBtf::Impl {
   // Level 2 entries (levels >= 2): kBtfRingCount codes per entry.
   std::vector<std::uint32_t> l2_index, l2_chroma;
   std::vector<std::uint16_t> l2_scale;
-  // Level 3 entries (levels == 3): kBtfDirectionCount (view) codes per entry.
+  // Level 3 entries (levels == 3): one code per view held (views.count()) per entry.
   std::vector<std::uint32_t> l3_index;
   std::vector<std::uint16_t> l3_scale;
-  // Top stream, texel t = y * width + x: levels 1: per (t, view, ring) index, scale and chroma;
-  // levels 2: per (t, view) level-2 index and scale; levels 3: per t level-3 index and scale.
+  // Top stream, texel t = y * width + x: levels 1: per (t, view slot, ring) index, scale and chroma;
+  // levels 2: per (t, view slot) level-2 index and scale; levels 3: per t level-3 index and scale.
   std::vector<std::uint32_t> top_index, top_chroma;
   std::vector<std::uint16_t> top_scale;
 
@@ -91,7 +94,9 @@ struct VqBtf::Impl {
 
   std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(btfRingSize(ring)); }
   std::size_t l2Count() const { return l2_index.size() / kBtfRingCount; }
-  std::size_t l3Count() const { return l3_index.size() / kBtfDirectionCount; }
+  std::size_t viewCount() const { return std::size_t(views.count()); }
+  std::size_t slotOf(int v) const { return std::size_t(views.slot(v)); }
+  std::size_t l3Count() const { return l3_index.size() / viewCount(); }
   std::size_t chromaCount(int ring) const { return chroma[std::size_t(ring)].size() / (2 * std::size_t(btfRingSize(ring))); }
 
   // Checks that every index is inside its codebook and the streams have their sizes (throws
@@ -100,9 +105,9 @@ struct VqBtf::Impl {
 
   // Level-2 code (entry, scale) of texel t's light slice at view v (levels >= 2).
   ScaledIndex sliceCode(std::size_t t, int v) const {
-    if (options.levels == 2) return top_codes[t * kBtfDirectionCount + std::size_t(v)];
+    if (options.levels == 2) return top_codes[t * viewCount() + slotOf(v)];
     const ScaledIndex c3 = top_codes[t];
-    ScaledIndex c2 = l3_codes[std::size_t(c3.entry) * kBtfDirectionCount + std::size_t(v)];
+    ScaledIndex c2 = l3_codes[std::size_t(c3.entry) * viewCount() + slotOf(v)];
     c2.scale *= c3.scale;
     return c2;
   }
@@ -114,7 +119,7 @@ struct VqBtf::Impl {
   }
   // Level-1 code (entry, scale, chroma entry) of texel t, view v, ring r.
   RingCode ringCode(std::size_t t, int v, int r) const {
-    if (options.levels == 1) return top_ring_codes[(t * kBtfDirectionCount + std::size_t(v)) * kBtfRingCount + std::size_t(r)];
+    if (options.levels == 1) return top_ring_codes[(t * viewCount() + slotOf(v)) * kBtfRingCount + std::size_t(r)];
     return ringCode(sliceCode(t, v), r);
   }
   // The measured sample of light `light` under its ring's level-1 code: luminance code.scale times

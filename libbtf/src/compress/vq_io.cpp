@@ -60,6 +60,8 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   header["width"] = m.width;
   header["height"] = m.height;
   header["name"] = m.name;
+  // The views held, only when some are missing (absent = all 81: files of complete BTFs are as before).
+  if (!m.views.complete()) header["views"] = m.views.views();
   header["levels"] = m.options.levels;
   header["epsilon"] = m.options.epsilon;
   header["chroma_epsilon"] = m.options.chroma_epsilon;
@@ -165,8 +167,13 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
     m->options.chroma_epsilon = header.at("chroma_epsilon").get<float>();
     m->options.energy_floor = header.at("energy_floor").get<float>();
     m->stats.codebook_entries = header.at("codebook_entries").get<std::vector<std::size_t>>();
+    if (header.contains("views")) m->views = BtfViewSet(header.at("views").get<std::vector<int>>());
   } catch (const nlohmann::json::exception& e) {
     throw FileError(path, std::string("VQ header is invalid: ") + e.what());
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(path, std::string("VQ header's views are invalid: ") + e.what());
   }
   if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
     throw FileError(path, "VQ header has an invalid texel size");
@@ -196,8 +203,19 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
   } catch (const Error& e) {
     throw FileError(path, e.what());
   }
+  // The header's codebook sizes must be those of the sections: a header whose view list was edited
+  // (checksums recomputed) would otherwise split the level-3 entries at the wrong length and decode
+  // wrong values without an error.
+  std::vector<std::size_t> entries;
+  std::size_t l1 = 0;
+  for (int r = 1; r < kBtfRingCount; ++r) l1 += m->l1Count(r);
+  entries.push_back(l1);
+  if (m->options.levels >= 2) entries.push_back(m->l2Count());
+  if (m->options.levels >= 3) entries.push_back(m->l3Count());
+  if (entries != m->stats.codebook_entries)
+    throw FileError(path, "VQ header's codebook entry counts disagree with its codebook sections (an edited header?)");
   m->stats.compressed_bytes = std::filesystem::file_size(path);
-  const double raw = double(m->width) * m->height * kBtfDirectionCount * kBtfDirectionCount * 3.0;
+  const double raw = double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
   m->stats.ratio_u8 = raw / double(m->stats.compressed_bytes);
   m->stats.ratio_f32 = 4.0 * m->stats.ratio_u8;
   return VqBtf(m);

@@ -48,7 +48,7 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
   for (std::size_t i = 0; i < n; ++i) {
     const VqBtf::Impl::ScaledIndex c3 = m.top_codes[k3[i]];
     scale[i] = c3.scale;
-    k3[i] = std::size_t(c3.entry) * kBtfDirectionCount + std::size_t(s[i].view);
+    k3[i] = std::size_t(c3.entry) * m.viewCount() + m.slotOf(s[i].view);
     prefetch(&m.l3_codes[k3[i]]);
   }
   for (std::size_t i = 0; i < n; ++i) {

@@ -18,17 +18,27 @@ void requireViewSize(const BtfSource& source, int view, std::size_t size) {
                 " values, expected " + std::to_string(expected));
 }
 
+const BtfViewSet& allViews() {
+  static const BtfViewSet all;
+  return all;
+}
+
 }  // namespace
 
-BtfData::BtfData(int width, int height, std::string name) : width_(width), height_(height), name_(std::move(name)) {
+const BtfViewSet& BtfSource::views() const { return allViews(); }
+const BtfViewSet& BtfLookup::lookupViews() const { return allViews(); }
+
+BtfData::BtfData(int width, int height, std::string name, BtfViewSet views)
+    : width_(width), height_(height), name_(std::move(name)), views_(std::move(views)) {
   if (width < 1 || height < 1)
     throw Error("BTF size " + std::to_string(width) + " x " + std::to_string(height) + " is invalid: both must be >= 1");
-  values_.assign(viewSize() * kBtfDirectionCount, Rgb());
+  values_.assign(viewSize() * std::size_t(views_.count()), Rgb());
 }
 
 void BtfLookup::checkSampleIndices(std::span<const BtfSampleIndex> samples, std::size_t out_size) const {
   if (samples.size() != out_size) throw Error("BTF values: spans of different sizes");
   const int w = lookupWidth(), h = lookupHeight();
+  const BtfViewSet& held = lookupViews();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const BtfSampleIndex& s = samples[i];
     if (s.x < 0 || s.x >= w || s.y < 0 || s.y >= h || s.view < 0 || s.view >= kBtfDirectionCount || s.light < 0 ||
@@ -37,6 +47,7 @@ void BtfLookup::checkSampleIndices(std::span<const BtfSampleIndex> samples, std:
                   ", view " + std::to_string(s.view) + ", light " + std::to_string(s.light) + ") is outside the " +
                   std::to_string(w) + " x " + std::to_string(h) + " texels and " + std::to_string(kBtfDirectionCount) +
                   " directions");
+    if (!held.contains(s.view)) held.require(s.view, "BTF values: sample " + std::to_string(i));
   }
 }
 
@@ -47,15 +58,16 @@ void BtfLookup::values(std::span<const BtfSampleIndex> samples, std::span<Rgb> o
 }
 
 void BtfData::loadView(int v, std::vector<Rgb>& out) const {
-  if (v < 0 || v >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(v) + " is out of range");
+  views_.require(v, name_);
   out.assign(view(v), view(v) + viewSize());
 }
 
 BtfData BtfData::copyOf(const BtfSource& source) {
-  BtfData data(source.width(), source.height(), source.name());
+  BtfData data(source.width(), source.height(), source.name(), source.views());
+  data.setWhite(source.white());
   std::vector<Rgb> buffer;
-  Progress progress("reading " + source.name(), kBtfDirectionCount);
-  for (int v = 0; v < kBtfDirectionCount; ++v) {
+  Progress progress("reading " + source.name(), source.views().count());
+  for (const int v : source.views().views()) {
     source.loadView(v, buffer);
     requireViewSize(source, v, buffer.size());
     std::copy(buffer.begin(), buffer.end(), data.view(v));
@@ -69,10 +81,11 @@ BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test) {
     throw Error("cannot compare " + test.name() + " (" + std::to_string(test.width()) + " x " +
                 std::to_string(test.height()) + " texels) with " + reference.name() + " (" +
                 std::to_string(reference.width()) + " x " + std::to_string(reference.height()) + ")");
+  for (const int v : reference.views().views()) test.views().require(v, "cannot compare " + test.name() + " with " + reference.name());
   std::vector<Rgb> a, b;
   double squared_error = 0, squared_reference = 0, max_reference = 0;
-  Progress progress("comparing " + test.name(), kBtfDirectionCount);
-  for (int v = 0; v < kBtfDirectionCount; ++v) {
+  Progress progress("comparing " + test.name(), reference.views().count());
+  for (const int v : reference.views().views()) {
     reference.loadView(v, a);
     requireViewSize(reference, v, a.size());
     test.loadView(v, b);

@@ -26,6 +26,13 @@ namespace {
 
 constexpr int kImagesPerBtf = kBtfDirectionCount * kBtfDirectionCount;
 
+// What our writer stores in integer images: 8-bit PNGs sRGB-encoded, as cameras and viewers expect
+// (and their 256 codes then spend their precision where the eye and the dark, grazing measurements
+// need it); 16-bit PNGs linear (precision enough without a curve).
+BtfTransfer btfWriterTransfer(BtfImageFormat format) {
+  return format == BtfImageFormat::Png8 ? BtfTransfer::Srgb : BtfTransfer::Linear;
+}
+
 std::string lower(std::string_view text) {
   std::string out(text);
   std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -36,16 +43,8 @@ bool isImageExtension(const std::string& ext) {
   return ext == ".png" || ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" || ext == ".jpeg";
 }
 
-// "theta 30, phi 60" of a set direction, for messages.
-std::string describeDirection(int index) {
-  const BtfDirection& d = btfDirections()[std::size_t(index)];
-  char text[64];
-  std::snprintf(text, sizeof text, "theta %g, phi %g", double(d.theta_deg), double(d.phi_deg));
-  return text;
-}
-
 std::string describePair(int view, int light) {
-  return "view (" + describeDirection(view) + ") and light (" + describeDirection(light) + ")";
+  return "view (" + describeBtfDirection(view) + ") and light (" + describeBtfDirection(light) + ")";
 }
 
 std::string sizeText(int width, int height) { return std::to_string(width) + " x " + std::to_string(height); }
@@ -57,10 +56,16 @@ void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
     if (e) std::rethrow_exception(e);
 }
 
-float readValueScale(const fs::path& folder) {
+// The sidecar's settings (btf_images.h): value_scale and transfer, each optional.
+struct Sidecar {
+  float value_scale = 1.0f;
+  std::optional<BtfTransfer> transfer;
+};
+
+Sidecar readSidecar(const fs::path& folder) {
   const fs::path sidecar = folder / kBtfSidecarName;
   std::error_code ec;
-  if (!fs::exists(sidecar, ec)) return 1.0f;
+  if (!fs::exists(sidecar, ec)) return {};
   std::ifstream in(sidecar);
   if (!in) throw FileError(sidecar, "cannot be opened for reading");
   nlohmann::json doc;
@@ -69,13 +74,27 @@ float readValueScale(const fs::path& folder) {
   } catch (const nlohmann::json::exception& e) {
     throw FileError(sidecar, std::string("is not valid JSON: ") + e.what());
   }
-  if (!doc.is_object()) throw FileError(sidecar, "expected a JSON object like {\"value_scale\": 2.5}");
-  if (!doc.contains("value_scale")) return 1.0f;
-  const nlohmann::json& s = doc["value_scale"];
-  if (!s.is_number() || !std::isfinite(s.get<double>()) || !(s.get<double>() > 0))
-    throw FileError(sidecar, "value_scale must be a finite number > 0, not " + s.dump());
-  return s.get<float>();
+  if (!doc.is_object()) throw FileError(sidecar, "expected a JSON object like {\"value_scale\": 2.5, \"transfer\": \"srgb\"}");
+  Sidecar result;
+  if (doc.contains("value_scale")) {
+    const nlohmann::json& s = doc["value_scale"];
+    if (!s.is_number() || !std::isfinite(s.get<double>()) || !(s.get<double>() > 0))
+      throw FileError(sidecar, "value_scale must be a finite number > 0, not " + s.dump());
+    result.value_scale = s.get<float>();
+  }
+  if (doc.contains("transfer")) {
+    const nlohmann::json& t = doc["transfer"];
+    const std::optional<BtfTransfer> transfer = t.is_string() ? parseBtfTransfer(t.get<std::string>()) : std::nullopt;
+    if (!transfer) throw FileError(sidecar, "transfer must be \"srgb\" or \"linear\", not " + t.dump());
+    result.transfer = transfer;
+  }
+  return result;
 }
+
+// The sRGB decoding curve (IEC 61966-2-1), from code / max_code in [0, 1] to linear, as a table
+// over the 256 codes of an 8-bit image (16-bit codes are computed: they are rarely sRGB).
+float srgbToLinear(float e) { return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f); }
+float linearToSrgb(float v) { return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f; }
 
 }  // namespace
 
@@ -89,6 +108,15 @@ std::string btfImageFormatName(BtfImageFormat format) {
 }
 
 std::string btfImageExtension(BtfImageFormat format) { return format == BtfImageFormat::Exr ? ".exr" : ".png"; }
+
+std::string btfTransferName(BtfTransfer transfer) { return transfer == BtfTransfer::Srgb ? "srgb" : "linear"; }
+
+std::optional<BtfTransfer> parseBtfTransfer(std::string_view name) {
+  const std::string n = lower(name);
+  if (n == "srgb") return BtfTransfer::Srgb;
+  if (n == "linear") return BtfTransfer::Linear;
+  return std::nullopt;
+}
 
 std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name) {
   const std::string name = lower(fs::path(file_name).stem().string());
@@ -172,23 +200,55 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
     ++found;
   }
   if (found == 0)
-    throw FileError(folder, "holds no BTF images (expected 81 x 81 images named like tv030_pv060_tl045_pl120.png)");
-  for (int view = 0; view < kBtfDirectionCount; ++view)
+    throw FileError(folder, "holds no BTF images (expected images named like tv030_pv060_tl045_pl120.png, 81 lights "
+                            "for each view held)");
+  // A view is held when any of its images is there, and then needs all 81 (a gantry records every
+  // light per camera position; the codecs group a texel's data by view).
+  std::vector<int> held;
+  for (int view = 0; view < kBtfDirectionCount; ++view) {
+    int missing = 0, first_missing = -1;
     for (int light = 0; light < kBtfDirectionCount; ++light)
-      if (result.paths_[std::size_t(view * kBtfDirectionCount + light)].empty())
-        throw FileError(folder, "the image of " + describePair(view, light) + " is missing (e.g. " +
-                                    btfImageName(view, light, BtfImageFormat::Png8) + "); " +
-                                    std::to_string(kImagesPerBtf - found) + " of " + std::to_string(kImagesPerBtf) +
-                                    " images are missing");
+      if (result.paths_[std::size_t(view * kBtfDirectionCount + light)].empty()) {
+        if (first_missing < 0) first_missing = light;
+        ++missing;
+      }
+    if (missing == kBtfDirectionCount) continue;
+    if (missing > 0)
+      throw FileError(folder, "the image of " + describePair(view, first_missing) + " is missing (e.g. " +
+                                  btfImageName(view, first_missing, BtfImageFormat::Png8) + "); " +
+                                  std::to_string(missing) + " of the view's " + std::to_string(kBtfDirectionCount) +
+                                  " light images are missing (a view held needs every light)");
+    held.push_back(view);
+  }
+  result.views_ = BtfViewSet(std::move(held));
 
-  result.value_scale_ = readValueScale(folder);
-  const fs::path& first = result.paths_[0];
+  const Sidecar sidecar = readSidecar(folder);
+  result.value_scale_ = sidecar.value_scale;
+  result.transfer_override_ = sidecar.transfer;
+  const fs::path& first = result.imagePath(result.views_.view(0), 0);
   auto in = OIIO::ImageInput::open(first.string());
   if (!in) throw FileError(first, "cannot be read as an image: " + OIIO::geterror());
   result.width_ = in->spec().width;
   result.height_ = in->spec().height;
+  result.first_format_ = in->spec().format;
   if (result.width_ < 1 || result.height_ < 1) throw FileError(first, "image has no pixels");
   return result;
+}
+
+BtfTransfer BtfImageFolder::transferOf(const OIIO::TypeDesc& format) const {
+  if (format.is_floating_point()) return BtfTransfer::Linear;
+  if (transfer_override_) return *transfer_override_;
+  return format.basetype == OIIO::TypeDesc::UINT8 ? BtfTransfer::Srgb : BtfTransfer::Linear;
+}
+
+std::optional<BtfTransfer> BtfImageFolder::transfer() const {
+  if (first_format_.is_floating_point()) return std::nullopt;
+  return transferOf(first_format_);
+}
+
+std::optional<float> BtfImageFolder::white() const {
+  if (first_format_.is_floating_point()) return std::nullopt;
+  return value_scale_;
 }
 
 std::string BtfImageFolder::name() const {
@@ -199,7 +259,7 @@ std::string BtfImageFolder::name() const {
 const fs::path& BtfImageFolder::imagePath(int view, int light) const {
   if (view < 0 || view >= kBtfDirectionCount || light < 0 || light >= kBtfDirectionCount)
     throw Error("BTF image index (" + std::to_string(view) + ", " + std::to_string(light) + ") is out of range");
-  return paths_[std::size_t(view * kBtfDirectionCount + light)];
+  return paths_[std::size_t(view * kBtfDirectionCount + light)];  // empty for a view not held
 }
 
 void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) const {
@@ -214,13 +274,31 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
   if (spec.nchannels < 3)
     throw FileError(path, "has " + std::to_string(spec.nchannels) + " channel(s), a BTF image needs RGB (3 or more)");
   const std::size_t texels = std::size_t(width_) * std::size_t(height_);
+  Rgb* dst = out.data() + std::size_t(light) * texels;
+  const BtfTransfer transfer = transferOf(spec.format);
+  if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+    // 8-bit codes through a table of their 256 values (the sRGB curve's pow per pixel would cost
+    // more than the decoding of the JPEG).
+    std::array<float, 256> table;
+    for (int code = 0; code < 256; ++code) {
+      const float e = float(code) / 255.0f;
+      table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbToLinear(e) : e) * value_scale_;
+    }
+    std::vector<std::uint8_t> codes(texels * 3);
+    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
+      throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
+    for (std::size_t i = 0; i < texels; ++i)
+      dst[i] = Rgb(table[codes[3 * i]], table[codes[3 * i + 1]], table[codes[3 * i + 2]]);
+    return;
+  }
   std::vector<float> pixels(texels * 3);
   // Channels 0..2 only; integer data arrives as code / max_code.
   if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
     throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
   const bool is_float = spec.format.is_floating_point();
   const float scale = is_float ? 1.0f : value_scale_;
-  Rgb* dst = out.data() + std::size_t(light) * texels;
+  if (transfer == BtfTransfer::Srgb)
+    for (float& p : pixels) p = srgbToLinear(p);
   for (std::size_t i = 0; i < texels; ++i) {
     const Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
     if (is_float && (!v.isFinite() || v.minComponent() < 0.0f))
@@ -233,7 +311,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
 }
 
 void BtfImageFolder::loadView(int view, std::vector<Rgb>& out) const {
-  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
+  views_.require(view, name());
   out.resize(std::size_t(kBtfDirectionCount) * texelCount());
   std::vector<std::exception_ptr> errors(kBtfDirectionCount);
   tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
@@ -275,10 +353,10 @@ void requireValidValue(const BtfSource& source, int view, std::size_t index, con
 }
 
 float findLargestValue(const BtfSource& source) {
-  Progress progress("scanning " + source.name() + " for its largest value", kBtfDirectionCount);
+  Progress progress("scanning " + source.name() + " for its largest value", source.views().count());
   std::vector<Rgb> values;
   float largest = 0.0f;
-  for (int view = 0; view < kBtfDirectionCount; ++view) {
+  for (const int view : source.views().views()) {
     source.loadView(view, values);
     for (std::size_t i = 0; i < values.size(); ++i) {
       requireValidValue(source, view, i, values[i]);
@@ -290,12 +368,15 @@ float findLargestValue(const BtfSource& source) {
 }
 
 template <typename Code>
-std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_scale) {
+std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_scale, BtfTransfer transfer) {
   constexpr float kMaxCode = float(std::numeric_limits<Code>::max());
   std::vector<Code> codes(count * 3);
   for (std::size_t i = 0; i < count; ++i)
-    for (int c = 0; c < 3; ++c)
-      codes[3 * i + std::size_t(c)] = Code(std::lround(std::clamp(values[i][c] / value_scale, 0.0f, 1.0f) * kMaxCode));
+    for (int c = 0; c < 3; ++c) {
+      float e = std::clamp(values[i][c] / value_scale, 0.0f, 1.0f);
+      if (transfer == BtfTransfer::Srgb) e = linearToSrgb(e);
+      codes[3 * i + std::size_t(c)] = Code(std::lround(e * kMaxCode));
+    }
   return codes;
 }
 
@@ -310,11 +391,11 @@ void writeOneImage(const fs::path& path, int width, int height, BtfImageFormat f
   const void* data = values;
   static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is read as three packed floats");
   if (format == BtfImageFormat::Png8) {
-    codes8 = quantize<std::uint8_t>(values, count, value_scale);
+    codes8 = quantize<std::uint8_t>(values, count, value_scale, btfWriterTransfer(format));
     type = OIIO::TypeDesc::UINT8;
     data = codes8.data();
   } else if (format == BtfImageFormat::Png16) {
-    codes16 = quantize<std::uint16_t>(values, count, value_scale);
+    codes16 = quantize<std::uint16_t>(values, count, value_scale, btfWriterTransfer(format));
     type = OIIO::TypeDesc::UINT16;
     data = codes16.data();
   }
@@ -339,12 +420,14 @@ void requireReplaceable(const fs::path& folder, bool overwrite) {
 }
 
 void writeSidecar(const fs::path& path, const BtfSource& source, BtfImageFormat format, float value_scale) {
-  const nlohmann::json doc{{"value_scale", value_scale},
-                           {"width", source.width()},
-                           {"height", source.height()},
-                           {"format", btfImageFormatName(format)},
-                           {"source", source.name()},
-                           {"value", "apparent BRDF (1/sr); integer images hold code / max_code * value_scale"}};
+  nlohmann::json doc{{"value_scale", value_scale},
+                     {"width", source.width()},
+                     {"height", source.height()},
+                     {"views", source.views().count()},
+                     {"format", btfImageFormatName(format)},
+                     {"source", source.name()},
+                     {"value", "apparent BRDF (1/sr); integer images hold transfer(code / max_code) * value_scale"}};
+  if (format != BtfImageFormat::Exr) doc["transfer"] = btfTransferName(btfWriterTransfer(format));
   std::ofstream out(path);
   out << doc.dump(2) << "\n";
   out.flush();
@@ -375,11 +458,11 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
   std::error_code ec;
   if (!fs::create_directory(temporary, ec)) throw FileError(temporary, "cannot be created: " + ec.message());
   try {
-    Progress progress("writing " + folder.filename().string(), kImagesPerBtf);
+    Progress progress("writing " + folder.filename().string(), std::size_t(source.views().count()) * kBtfDirectionCount);
     const int width = source.width(), height = source.height();
     const std::size_t texels = source.texelCount();
     std::vector<Rgb> values;
-    for (int view = 0; view < kBtfDirectionCount; ++view) {
+    for (const int view : source.views().views()) {
       source.loadView(view, values);
       if (values.size() != texels * kBtfDirectionCount)
         throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(values.size()) +

@@ -70,11 +70,12 @@ struct DirectionStencil {
     weight[std::size_t(count++)] = w * g;
   }
 };
-DirectionStencil stencil(const glm::vec3& w) {
+// Over the first `rings` rings (views of a partial BTF: constant beyond its last ring).
+DirectionStencil stencil(const glm::vec3& w, int rings = kBtfRingCount) {
   DirectionStencil s;
   const float t = ringCoordinate(w), turns = azimuthTurns(w);
-  if (t >= float(kBtfRingCount - 1)) {
-    s.add(kBtfRingCount - 1, turns, 1.0f);
+  if (t >= float(rings - 1)) {
+    s.add(rings - 1, turns, 1.0f);
     return s;
   }
   const int r0 = int(t);
@@ -99,9 +100,14 @@ inline void lightCell(const glm::vec3& wi, int& ring, int& azimuth) {
   if (azimuth >= n) azimuth -= n;
 }
 
-inline int nearestView(const glm::vec3& wo) {
+inline int nearestView(const glm::vec3& wo, int rings) {
   int ring, azimuth;
   lightCell(wo, ring, azimuth);
+  if (ring >= rings) {
+    ring = rings - 1;
+    azimuth = int(azimuthTurns(wo) * float(btfRingSize(ring)) + 0.5f);
+    if (azimuth >= btfRingSize(ring)) azimuth -= btfRingSize(ring);
+  }
   return btfDirectionIndex(ring, azimuth);
 }
 
@@ -125,11 +131,18 @@ BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter fi
   width_ = btf_->lookupWidth();
   height_ = btf_->lookupHeight();
   if (width_ < 1 || height_ < 1) throw Error("BtfMaterial: the BTF has no texels");
+  // Interpolation over wo needs whole rings from the pole; a BTF of other views (a few scattered
+  // ones) has no sensible value between them.
+  const BtfViewSet& views = btf_->lookupViews();
+  view_rings_ = views.completeRingsFromPole();
+  if (view_rings_ == 0 || views.count() != btfRingStart(view_rings_ - 1) + btfRingSize(view_rings_ - 1))
+    throw Error("BtfMaterial needs the views of whole rings from the pole (e.g. all views up to theta 45); the BTF holds " +
+                views.describe());
 }
 
 Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) const {
   if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return Rgb();
-  const DirectionStencil light = stencil(wi), view = stencil(wo);
+  const DirectionStencil light = stencil(wi), view = stencil(wo, view_rings_);
   // The (view, light, weight) triples with weight > 0, shared by the texels.
   std::array<int, 16> views, lights;
   std::array<float, 16> weights;
@@ -165,7 +178,7 @@ Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) co
 }
 
 const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, glm::vec2 uv) const {
-  const int x = nearestTexel(uv.x, width_), y = nearestTexel(uv.y, height_), view = nearestView(wo);
+  const int x = nearestTexel(uv.x, width_), y = nearestTexel(uv.y, height_), view = nearestView(wo, view_rings_);
   // One slice's tables per thread are kept: pdf is mostly called for the same wo and uv as the
   // sample before it (MIS, chi-square quadrature), so the slice is decoded once. Keyed by a
   // per-material id, not the address, which a later material may reuse.

@@ -2,7 +2,8 @@
 // one compressor: "where does it break" for every method (issue 5).
 //
 // Each texel is the vector of its luminances (Rgb::luminance) over D of the 6561 (view, light)
-// pairs, chosen at random by seed (a T x D matrix, T = texels). Three measures:
+// pairs, chosen at random by seed (a T x D matrix, T = texels). (Of a BTF holding only some views,
+// its V x 81 pairs: read 6561 below as those.) Three measures:
 //
 // 1. Nearest neighbour. The scale-optimal relative distance of texel x to texel y is
 //      d(x, y) = min_s |x - s y| / |x| = sqrt(1 - cos^2(x, y)),
@@ -98,7 +99,8 @@ struct CompressibilityReport {
 // direction; passes on the source's errors. Reports progress (views read, rows searched).
 CompressibilityReport analyzeCompressibility(const BtfSource& source, const CompressibilityOptions& options = {});
 
-// The ratio_u8 bound of a rank-k float16 model of T texels (formula above); +infinity for k = 0.
-double rankRatioU8Bound(int texels, int rank);
+// The ratio_u8 bound of a rank-k float16 model of T texels over `pairs` (view, light) pairs (formula
+// above); +infinity for k = 0.
+double rankRatioU8Bound(int texels, int rank, int pairs = kBtfDirectionCount * kBtfDirectionCount);
 
 }  // namespace btf

@@ -45,18 +45,24 @@ class PcaBtf final : public BtfSource, public BtfLookup {
   int width() const override { return width_; }
   int height() const override { return height_; }
   std::string name() const override { return name_; }
+  const BtfViewSet& views() const override { return view_set_; }
   // Decodes the whole view: T x 243 from k components per texel (a matrix product).
   void loadView(int view, std::vector<Rgb>& out) const override;
   int lookupWidth() const override { return width_; }
   int lookupHeight() const override { return height_; }
+  const BtfViewSet& lookupViews() const override { return view_set_; }
   // One entry: mean + k multiply-adds per channel. No bounds checks (hot path).
   Rgb value(int x, int y, int view, int light) const override;
 
   int components() const { return components_; }
   PcaPrecision precision() const { return precision_; }
   // Bytes a file of this factorization holds (format above).
-  std::uint64_t storedBytes() const { return storedBytesFor(width_, height_, components_, precision_); }
-  static std::uint64_t storedBytesFor(int width, int height, int components, PcaPrecision precision);
+  std::uint64_t storedBytes() const {
+    return storedBytesFor(width_, height_, components_, precision_, view_set_.count());
+  }
+  // The same for a BTF of `views` views (each view is factorized on its own).
+  static std::uint64_t storedBytesFor(int width, int height, int components, PcaPrecision precision,
+                                      int views = kBtfDirectionCount);
   // Fraction of the (mean-removed) variance that the kept components explain, over all views:
   // sum of the top-k eigenvalues / trace of the covariance (1 for a constant BTF).
   double explainedVariance() const { return explained_variance_; }
@@ -74,7 +80,8 @@ class PcaBtf final : public BtfSource, public BtfLookup {
   PcaPrecision precision_ = PcaPrecision::Half;
   std::string name_;
   double explained_variance_ = 1.0;
-  std::vector<View> views_;
+  BtfViewSet view_set_;
+  std::vector<View> views_;  // by slot in view_set_
 };
 
 // Factorizes with k components per view (0 <= k <= 243; k = 0 keeps only the mean). Throws
@@ -83,7 +90,7 @@ PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precisi
 
 // The largest k whose storedBytes fit in byte_budget (at most 243), or -1 if not even the mean fits.
 int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget,
-                           PcaPrecision precision = PcaPrecision::Half);
+                           PcaPrecision precision = PcaPrecision::Half, int views = kBtfDirectionCount);
 // compressPca with pcaComponentsForBudget's k, for "equal storage" comparisons; throws btf::Error
 // if the budget cannot hold even the per-view means.
 PcaBtf compressPcaToBytes(const BtfSource& source, std::uint64_t byte_budget,

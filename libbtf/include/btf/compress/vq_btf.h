@@ -78,9 +78,11 @@ class VqBtf final : public BtfSource, public BtfLookup {
   int width() const override;
   int height() const override;
   std::string name() const override;
+  const BtfViewSet& views() const override;
   void loadView(int view, std::vector<Rgb>& out) const override;
   int lookupWidth() const override { return width(); }
   int lookupHeight() const override { return height(); }
+  const BtfViewSet& lookupViews() const override { return views(); }
   Rgb value(int x, int y, int view, int light) const override;
   void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const override;
 

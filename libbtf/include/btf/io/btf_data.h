@@ -6,17 +6,21 @@
 //
 // BtfSource is the streaming interface: a consumer asks for one view at a time (all 81 lights for
 // every texel, 81 * width * height RGB values: 64 MiB for 256 x 256 texels), so a 256 x 256 BTF
-// (5 GiB as float) never has to sit in memory whole. Readers (btf_images.h), the compressed forms
+// (5 GiB as float) never has to sit in memory whole. A source may hold only some of the 81 views
+// (core/btf_view_set.h): consumers loop over views() and ask for no other. Readers (btf_images.h), the compressed forms
 // (compress/) and the in-memory BtfData all implement it, so comparisons and converters work on
 // any pair of them.
 #pragma once
 
+#include <cassert>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "btf/core/btf_directions.h"
+#include "btf/core/btf_view_set.h"
 #include "btf/core/rgb.h"
 
 namespace btf {
@@ -26,15 +30,20 @@ class BtfSource {
   virtual ~BtfSource() = default;
   virtual int width() const = 0;
   virtual int height() const = 0;
+  // The views the source holds (all 81 unless it says otherwise).
+  virtual const BtfViewSet& views() const;
   // Fills out (resized) with the view's values, light-major: out[(light * height + y) * width + x].
-  // Throws btf::Error / FileError (naming the file) on unreadable data.
+  // Throws btf::Error / FileError (naming the file) on unreadable data or a view not held.
   virtual void loadView(int view, std::vector<Rgb>& out) const = 0;
   // Short description for reports, e.g. the folder name.
   virtual std::string name() const = 0;
+  // The value the source's encoding saturates at, if it has one: an 8-bit or 16-bit image folder's
+  // largest code (value_scale). Perceptual measures clip to it as the camera did.
+  virtual std::optional<float> white() const { return std::nullopt; }
 
   std::size_t texelCount() const { return std::size_t(width()) * std::size_t(height()); }
-  // Entries of the whole BTF: texels x 81 x 81 (each an RGB triple).
-  std::size_t entryCount() const { return texelCount() * kBtfDirectionCount * kBtfDirectionCount; }
+  // Entries of the whole BTF: texels x held views x 81 lights (each an RGB triple).
+  std::size_t entryCount() const { return texelCount() * std::size_t(views().count()) * kBtfDirectionCount; }
 };
 
 // Random access to single entries, for evaluation (material/btf_material.h). Implemented by the
@@ -49,9 +58,12 @@ class BtfLookup {
   virtual ~BtfLookup() = default;
   virtual int lookupWidth() const = 0;
   virtual int lookupHeight() const = 0;
+  // The views value() answers for (all 81 unless it says otherwise).
+  virtual const BtfViewSet& lookupViews() const;
   virtual Rgb value(int x, int y, int view, int light) const = 0;
   // A stream of lookups (after Embree's stream calls): out[i] = value(samples[i]), bit for bit.
-  // Throws btf::Error for spans of different sizes or an index outside the BTF (naming it). The
+  // Throws btf::Error for spans of different sizes, an index outside the BTF or a view it does not
+  // hold (naming it). The
   // default loops; VqBtf decodes 32 samples per step in AVX2 lanes where the CPU has them.
   virtual void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const;
 
@@ -61,41 +73,56 @@ class BtfLookup {
 };
 
 // A BTF held in memory, view-major: at(x, y, view, light). For tests, small generated data and
-// one-texel BTFs made from BRDFs.
+// one-texel BTFs made from BRDFs. Only the held views take memory; at() and view() of a view not
+// held is a programming error (checked in debug builds only: they are the hot accessors).
 class BtfData final : public BtfSource, public BtfLookup {
  public:
-  BtfData(int width, int height, std::string name = "btf");  // zero-filled; throws for sizes < 1
+  // Zero-filled; throws for sizes < 1.
+  BtfData(int width, int height, std::string name = "btf", BtfViewSet views = {});
   int width() const override { return width_; }
   int height() const override { return height_; }
   std::string name() const override { return name_; }
+  const BtfViewSet& views() const override { return views_; }
+  std::optional<float> white() const override { return white_; }
+  void setWhite(std::optional<float> white) { white_ = white; }
   void loadView(int view, std::vector<Rgb>& out) const override;
   int lookupWidth() const override { return width_; }
   int lookupHeight() const override { return height_; }
+  const BtfViewSet& lookupViews() const override { return views_; }
   Rgb value(int x, int y, int view, int light) const override { return at(x, y, view, light); }
 
   Rgb& at(int x, int y, int view, int light) { return values_[index(x, y, view, light)]; }
   const Rgb& at(int x, int y, int view, int light) const { return values_[index(x, y, view, light)]; }
   // The view's block, light-major as loadView writes it.
-  Rgb* view(int view) { return values_.data() + std::size_t(view) * viewSize(); }
-  const Rgb* view(int view) const { return values_.data() + std::size_t(view) * viewSize(); }
+  Rgb* view(int view) { return values_.data() + slotOf(view) * viewSize(); }
+  const Rgb* view(int view) const { return values_.data() + slotOf(view) * viewSize(); }
   std::size_t viewSize() const { return std::size_t(kBtfDirectionCount) * texelCount(); }
 
-  // Reads a whole source into memory (progress reported per view).
+  // Reads a whole source into memory, the views it holds (progress reported per view).
   static BtfData copyOf(const BtfSource& source);
 
  private:
+  std::size_t slotOf(int view) const;
   std::size_t index(int x, int y, int view, int light) const {
-    return ((std::size_t(view) * kBtfDirectionCount + std::size_t(light)) * std::size_t(height_) + std::size_t(y)) *
+    return ((slotOf(view) * kBtfDirectionCount + std::size_t(light)) * std::size_t(height_) + std::size_t(y)) *
                std::size_t(width_) + std::size_t(x);
   }
   int width_, height_;
   std::string name_;
+  BtfViewSet views_;
+  std::optional<float> white_;
   std::vector<Rgb> values_;
 };
 
+inline std::size_t BtfData::slotOf(int view) const {
+  assert(views_.contains(view));
+  return std::size_t(views_.slot(view));
+}
+
 // Errors of one BTF against a reference over all entries and channels (names as ARCHITECTURE.md):
 // rel_rmse = RMSE / RMS of the reference; psnr_db = 20 log10(max of the reference / RMSE).
-// Throws btf::Error if the sizes differ or the reference is all zero.
+// Over the reference's views; throws btf::Error if the sizes differ, the test lacks one of those
+// views, or the reference is all zero.
 struct BtfErrorStats {
   double rel_rmse = 0, psnr_db = 0, rmse = 0, reference_rms = 0, reference_max = 0;
   std::size_t entries = 0;

@@ -7,10 +7,18 @@
 // or trailing frame number is allowed (`00012 tl015 pl060 tv000 pv000.png`). Files without these
 // tags (previews, notes) are ignored; a name with the tags but an angle outside the set is an error.
 //
+// Views: a folder may hold any subset of the 81 views (one view of a sample, or the views up to some
+// elevation); each view it holds needs all 81 light images. views() says which it has.
+//
 // Values: float images (EXR) hold the apparent BRDF itself. Integer images (PNG 8/16-bit, also
-// TIFF/JPEG through OpenImageIO) hold value = code / max_code * value_scale, with value_scale from
-// the optional sidecar `btf.json` in the folder (`{"value_scale": s}`, absent = 1): our writer
-// sets it so that 8-bit PNGs can hold apparent-BRDF values above 1.
+// TIFF/JPEG through OpenImageIO) hold value = transfer(code / max_code) * value_scale, with
+// value_scale and transfer from the optional sidecar `btf.json` in the folder
+// (`{"value_scale": s, "transfer": "srgb" | "linear"}`). Without them: value_scale 1, and the
+// transfer is sRGB for 8-bit images (what cameras and the Bonn database store: the IEC 61966-2-1
+// decoding curve, linear below code 0.04045 * 255, a 2.4 power above) and linear for 16-bit ones.
+// The sidecar's transfer applies to the folder's integer images of every depth; float images are
+// always linear. Our writer writes both keys: 8-bit PNGs sRGB-encoded, 16-bit PNGs linear, with
+// value_scale set so that they can hold apparent-BRDF values above 1.
 #pragma once
 
 #include <array>
@@ -20,11 +28,18 @@
 #include <string_view>
 #include <vector>
 
+#include <OpenImageIO/typedesc.h>
+
 #include "btf/io/btf_data.h"
 
 namespace btf {
 
 enum class BtfImageFormat { Png8, Png16, Exr };
+
+// How integer codes map to linear values (see above).
+enum class BtfTransfer { Srgb, Linear };
+std::string btfTransferName(BtfTransfer transfer);                  // "srgb", "linear"
+std::optional<BtfTransfer> parseBtfTransfer(std::string_view name);  // any case; nothing if unknown
 
 // "png8", "png16", "exr" and the file extension (".png", ".exr") of a format.
 std::string btfImageFormatName(BtfImageFormat format);
@@ -41,19 +56,22 @@ std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name);
 // The canonical name our writer uses, e.g. "tv030_pv060_tl045_pl120.png".
 std::string btfImageName(int view, int light, BtfImageFormat format);
 
-// The name of the sidecar with value_scale (and facts for people: size, format, source).
+// The name of the sidecar with value_scale and transfer (and facts for people: size, format, source).
 inline constexpr const char* kBtfSidecarName = "btf.json";
 
 // A BTF read from an image folder, one view (81 images) at a time.
 class BtfImageFolder final : public BtfSource {
  public:
-  // Scans the folder and checks the names up front: every one of the 81 x 81 pairs present exactly
+  // Scans the folder and checks the names up front: every light of each view held present exactly
   // once (FileError naming the first missing (theta, phi) pair, or both files of a duplicate);
   // reads btf.json if present and the size of the first image. Pixel data is read by loadView.
   static BtfImageFolder open(const std::filesystem::path& folder);
 
   int width() const override { return width_; }
   int height() const override { return height_; }
+  const BtfViewSet& views() const override { return views_; }
+  // For integer images: value_scale (the value of the largest code). Nothing for float images.
+  std::optional<float> white() const override;
   std::string name() const override;
   // Reads the view's 81 images (in parallel). FileError naming the file for an unreadable or
   // corrupt image, one of another size (both sizes named), fewer than 3 channels, or a float image
@@ -63,14 +81,20 @@ class BtfImageFolder final : public BtfSource {
   const std::filesystem::path& folder() const { return folder_; }
   const std::filesystem::path& imagePath(int view, int light) const;
   float valueScale() const { return value_scale_; }
+  // The transfer of the folder's (first) images; nothing for float images.
+  std::optional<BtfTransfer> transfer() const;
 
  private:
   BtfImageFolder() = default;
   void readImageInto(int view, int light, std::vector<Rgb>& out) const;
+  BtfTransfer transferOf(const OIIO::TypeDesc& format) const;
 
   std::filesystem::path folder_;
   std::vector<std::filesystem::path> paths_;  // view * 81 + light
+  BtfViewSet views_;
   float value_scale_ = 1.0f;
+  std::optional<BtfTransfer> transfer_override_;  // btf.json's, if it has one
+  OIIO::TypeDesc first_format_;
   int width_ = 0, height_ = 0;
 };
 
@@ -84,7 +108,7 @@ struct BtfImageWriteOptions {
   bool overwrite = true;
 };
 
-// Writes every (view, light) image of `source` into `folder` plus btf.json. The folder is built
+// Writes every (view, light) image of the views `source` holds into `folder` plus btf.json. The folder is built
 // as a hidden temporary sibling and renamed into place when complete, so a failure or an
 // interruption never leaves a half-written BTF under the destination name. Progress is reported
 // per image. PNG values above value_scale are clamped (none are when the scale is found by the

@@ -4,7 +4,9 @@
 //
 // eval interpolates between the 81 measured directions within their ring structure, for wi and wo
 // alike: linear in theta between the two enclosing rings (constant beyond the last ring, 75
-// degrees), linear in phi between the two enclosing azimuths of each ring (ring 0 has one);
+// degrees, or for wo the last ring of views a partial BTF holds: it needs whole rings from the
+// pole, e.g. one view at theta 0, which then serves every wo), linear in phi between the two
+// enclosing azimuths of each ring (ring 0 has one);
 // so a direction weighs at most 4 measured directions and a pair at most 16. Over the texture,
 // bilinear between the 4 nearest texel centres (uv in [0,1)^2 wraps: texel x covers
 // [x, x + 1) / width), or the nearest texel. At measured directions and texel centres eval returns
@@ -36,7 +38,7 @@ enum class BtfTexelFilter { Bilinear, Nearest };
 
 class BtfMaterial final : public Material {
  public:
-  // Throws btf::Error for a null BTF.
+  // Throws btf::Error for a null BTF or one whose views are not whole rings from the pole.
   explicit BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter = BtfTexelFilter::Bilinear,
                        std::string name = "btf");
 
@@ -64,6 +66,7 @@ class BtfMaterial final : public Material {
   BtfTexelFilter filter_;
   std::string name_;
   int width_, height_;
+  int view_rings_;  // rings of views held, from the pole (6 for a full BTF)
   std::uint64_t id_;  // for the per-thread cache of the last light slice's tables
 };
 

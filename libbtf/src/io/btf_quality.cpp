@@ -1,0 +1,272 @@
+#include "btf/io/btf_quality.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
+
+namespace btf {
+namespace {
+
+// Past this many values a median or percentile is taken on a subsample: 64 MiB of floats.
+constexpr std::size_t kMaxSampledValues = std::size_t(1) << 24;
+
+// A source whose views have the wrong length would make the loops below overrun their buffers.
+void requireViewSize(const BtfSource& source, int view, std::size_t size) {
+  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
+  if (size != expected)
+    throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
+                " values, expected " + std::to_string(expected));
+}
+
+bool isPrime(std::size_t n) {
+  if (n < 2) return false;
+  for (std::size_t d = 2; d * d <= n; ++d)
+    if (n % d == 0) return false;
+  return true;
+}
+
+// The stride of the deterministic subsample of `count` values: 1 when all fit, else the smallest
+// prime other than 3 that leaves at most kMaxSampledValues (coprime with the 3 channels, so the
+// pick does not lock onto one of them).
+std::size_t subsampleStride(std::size_t count) {
+  if (count <= kMaxSampledValues) return 1;
+  std::size_t k = (count + kMaxSampledValues - 1) / kMaxSampledValues;
+  while (!isPrime(k) || k == 3) ++k;
+  return k;
+}
+
+// Keeps every stride-th of the values offered to it, counting across calls (streaming order).
+class Subsample {
+ public:
+  explicit Subsample(std::size_t count) : stride_(subsampleStride(count)) {
+    kept_.reserve(count / stride_ + 1);
+  }
+  void offer(float value) {
+    if (index_++ == next_) {
+      kept_.push_back(value);
+      next_ += stride_;
+    }
+  }
+  std::vector<float>& kept() { return kept_; }
+
+ private:
+  std::size_t stride_, index_ = 0, next_ = 0;
+  std::vector<float> kept_;
+};
+
+std::string sizeText(const BtfSource& source) {
+  return std::to_string(source.width()) + " x " + std::to_string(source.height()) + " texels";
+}
+
+bool positiveFinite(float value) { return std::isfinite(value) && value > 0; }
+
+// The white of compareBtfSsim when none is given: the reference's own, else the 99.9th percentile
+// (nearest rank) of its channel values, else (percentile 0) their maximum.
+float defaultWhite(const BtfSource& reference) {
+  if (const std::optional<float> white = reference.white()) {
+    if (!positiveFinite(*white))
+      throw Error(reference.name() + ": its white (" + std::to_string(*white) + ") is not a finite value > 0");
+    return *white;
+  }
+  Subsample sample(reference.entryCount() * 3);
+  float largest = 0;
+  std::vector<Rgb> values;
+  Progress progress("finding the white of " + reference.name(), std::uint64_t(reference.views().count()));
+  for (const int v : reference.views().views()) {
+    reference.loadView(v, values);
+    requireViewSize(reference, v, values.size());
+    for (const Rgb& rgb : values)
+      for (int c = 0; c < 3; ++c) {
+        sample.offer(rgb[c]);
+        largest = std::max(largest, rgb[c]);
+      }
+    progress.advance();
+  }
+  std::vector<float>& kept = sample.kept();
+  const auto rank = std::size_t(std::ceil(0.999 * double(kept.size())));
+  const auto nth = kept.begin() + std::ptrdiff_t(std::max<std::size_t>(rank, 1) - 1);
+  std::nth_element(kept.begin(), nth, kept.end());
+  const float white = *nth > 0 ? *nth : largest;
+  if (!positiveFinite(white))
+    throw Error(reference.name() + ": cannot choose a white for SSIM: the BTF has no finite value > 0 (give one)");
+  return white;
+}
+
+// IEC 61966-2-1 encoding of a linear value in [0, 1].
+float srgbEncode(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
+
+// The colour as a camera shows it: divided by white, clipped, sRGB-encoded.
+Rgb displayed(const Rgb& rgb, float inv_white) {
+  Rgb encoded;
+  for (int c = 0; c < 3; ++c) encoded[c] = srgbEncode(std::clamp(rgb[c] * inv_white, 0.0f, 1.0f));
+  return encoded;
+}
+float luma(const Rgb& encoded) { return 0.2126f * encoded[0] + 0.7152f * encoded[1] + 0.0722f * encoded[2]; }
+
+// Buffers of one image comparison, reused by a thread across images: two luma images and the
+// summed-area tables of x, y, x^2, y^2 and x y, (width + 1) x (height + 1) with a zero first row
+// and column.
+struct SsimScratch {
+  std::vector<float> x, y;
+  std::vector<double> sx, sy, sxx, syy, sxy;
+};
+
+constexpr double kC1 = 0.01 * 0.01, kC2 = 0.03 * 0.03;
+
+// Mean SSIM over the window positions of one image (lumas already in scratch.x, scratch.y).
+double imageSsim(SsimScratch& s, int width, int height, int window) {
+  const std::size_t stride = std::size_t(width) + 1, table = stride * (std::size_t(height) + 1);
+  for (std::vector<double>* t : {&s.sx, &s.sy, &s.sxx, &s.syy, &s.sxy}) t->assign(table, 0.0);
+  for (int row = 0; row < height; ++row) {
+    double rx = 0, ry = 0, rxx = 0, ryy = 0, rxy = 0;
+    const std::size_t above = std::size_t(row) * stride, here = above + stride;
+    for (int col = 0; col < width; ++col) {
+      const std::size_t p = std::size_t(row) * std::size_t(width) + std::size_t(col);
+      const double a = s.x[p], b = s.y[p];
+      rx += a;
+      ry += b;
+      rxx += a * a;
+      ryy += b * b;
+      rxy += a * b;
+      const std::size_t c = std::size_t(col) + 1;
+      s.sx[here + c] = s.sx[above + c] + rx;
+      s.sy[here + c] = s.sy[above + c] + ry;
+      s.sxx[here + c] = s.sxx[above + c] + rxx;
+      s.syy[here + c] = s.syy[above + c] + ryy;
+      s.sxy[here + c] = s.sxy[above + c] + rxy;
+    }
+  }
+  const int wx = std::min(window, width), wy = std::min(window, height);
+  const double inv_n = 1.0 / (double(wx) * double(wy));
+  double sum = 0;
+  for (int y0 = 0; y0 + wy <= height; ++y0) {
+    const std::size_t top = std::size_t(y0) * stride, bottom = std::size_t(y0 + wy) * stride;
+    for (int x0 = 0; x0 + wx <= width; ++x0) {
+      const std::size_t a = top + std::size_t(x0), b = top + std::size_t(x0 + wx);
+      const std::size_t c = bottom + std::size_t(x0), d = bottom + std::size_t(x0 + wx);
+      const auto box = [&](const std::vector<double>& t) { return (t[d] - t[b] - t[c] + t[a]) * inv_n; };
+      const double mx = box(s.sx), my = box(s.sy);
+      const double vx = box(s.sxx) - mx * mx, vy = box(s.syy) - my * my, cxy = box(s.sxy) - mx * my;
+      sum += ((2.0 * mx * my + kC1) * (2.0 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+    }
+  }
+  return sum / (double(width - wx + 1) * double(height - wy + 1));
+}
+
+}  // namespace
+
+BtfSsimStats compareBtfSsim(const BtfSource& reference, const BtfSource& test, const BtfSsimOptions& options) {
+  const std::string what = "cannot compare " + test.name() + " with " + reference.name();
+  if (reference.width() != test.width() || reference.height() != test.height())
+    throw Error(what + ": " + test.name() + " has " + sizeText(test) + ", " + reference.name() + " has " +
+                sizeText(reference));
+  for (const int v : reference.views().views()) test.views().require(v, what);
+  if (options.window < 1) throw Error(what + ": the SSIM window (" + std::to_string(options.window) + ") must be >= 1");
+  if (options.white && !positiveFinite(*options.white))
+    throw Error(what + ": the white (" + std::to_string(*options.white) + ") must be a finite value > 0");
+
+  BtfSsimStats stats;
+  stats.white = options.white ? *options.white : defaultWhite(reference);
+  const float inv_white = 1.0f / stats.white;
+  const int width = reference.width(), height = reference.height();
+  const std::size_t pixels = reference.texelCount();
+
+  tbb::enumerable_thread_specific<SsimScratch> scratch;
+  std::vector<double> image_ssim(kBtfDirectionCount);
+  // Per image: squared differences and squares of the displayed reference, over its channels.
+  std::vector<double> image_error2(kBtfDirectionCount), image_reference2(kBtfDirectionCount);
+  double error2 = 0, reference2 = 0;
+  std::vector<Rgb> a, b;
+  double sum = 0;
+  Progress progress("SSIM of " + test.name(), std::uint64_t(reference.views().count()));
+  for (const int v : reference.views().views()) {
+    reference.loadView(v, a);
+    requireViewSize(reference, v, a.size());
+    test.loadView(v, b);
+    requireViewSize(test, v, b.size());
+    tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
+      SsimScratch& s = scratch.local();
+      s.x.resize(pixels);
+      s.y.resize(pixels);
+      const std::size_t first = std::size_t(light) * pixels;
+      double e2 = 0, r2 = 0;
+      for (std::size_t p = 0; p < pixels; ++p) {
+        const Rgb x = displayed(a[first + p], inv_white), y = displayed(b[first + p], inv_white);
+        s.x[p] = luma(x);
+        s.y[p] = luma(y);
+        for (int c = 0; c < 3; ++c) {
+          const double d = double(y[c]) - double(x[c]);
+          e2 += d * d;
+          r2 += double(x[c]) * double(x[c]);
+        }
+      }
+      image_error2[std::size_t(light)] = e2;
+      image_reference2[std::size_t(light)] = r2;
+      image_ssim[std::size_t(light)] = imageSsim(s, width, height, options.window);
+    });
+    // In image order, whatever the threads did.
+    for (std::size_t i = 0; i < image_ssim.size(); ++i) {
+      sum += image_ssim[i];
+      stats.min_image_ssim = std::min(stats.min_image_ssim, image_ssim[i]);
+      error2 += image_error2[i];
+      reference2 += image_reference2[i];
+    }
+    stats.images += image_ssim.size();
+    progress.advance();
+  }
+  stats.mean_ssim = sum / double(stats.images);
+  stats.rel_rmse_display = reference2 > 0 ? std::sqrt(error2 / reference2) : (error2 > 0 ? HUGE_VAL : 0.0);
+  return stats;
+}
+
+BtfNoiseFloor estimateBtfNoiseFloor(const BtfSource& source) {
+  constexpr int kFirstRing = 1;  // ring 0 is a single light: it has no azimuthal neighbours
+  int lights_with_neighbours = 0;
+  for (int ring = kFirstRing; ring < kBtfRingCount; ++ring) lights_with_neighbours += btfRingSize(ring);
+  const std::size_t texels = source.texelCount();
+  Subsample residuals(texels * std::size_t(source.views().count()) * std::size_t(lights_with_neighbours) * 3);
+
+  double squares = 0;
+  std::vector<Rgb> values;
+  Progress progress("estimating the noise of " + source.name(), std::uint64_t(source.views().count()));
+  for (const int v : source.views().views()) {
+    source.loadView(v, values);
+    requireViewSize(source, v, values.size());
+    for (const Rgb& rgb : values)
+      for (int c = 0; c < 3; ++c) squares += double(rgb[c]) * double(rgb[c]);
+    for (int ring = kFirstRing; ring < kBtfRingCount; ++ring) {
+      const int n = btfRingSize(ring);
+      for (int azimuth = 0; azimuth < n; ++azimuth) {
+        const Rgb* here = values.data() + std::size_t(btfDirectionIndex(ring, azimuth)) * texels;
+        const Rgb* before = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + n - 1) % n)) * texels;
+        const Rgb* after = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + 1) % n)) * texels;
+        for (std::size_t t = 0; t < texels; ++t)
+          for (int c = 0; c < 3; ++c)
+            residuals.offer(std::abs(here[t][c] - 0.5f * (before[t][c] + after[t][c])));
+      }
+    }
+    progress.advance();
+  }
+  const double rms = std::sqrt(squares / (double(source.entryCount()) * 3.0));
+  if (!(rms > 0)) throw Error(source.name() + ": the BTF is all zero; its relative noise level is undefined");
+
+  std::vector<float>& kept = residuals.kept();
+  const auto middle = kept.begin() + std::ptrdiff_t(kept.size() / 2);
+  std::nth_element(kept.begin(), middle, kept.end());
+  BtfNoiseFloor floor;
+  floor.residuals = kept.size();
+  floor.rms_noise = 1.4826 * double(*middle) / std::sqrt(1.5);
+  floor.rel_rmse = floor.rms_noise / rms;
+  return floor;
+}
+
+}  // namespace btf
