@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include "btf/compress/vq_btf.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/btf_quality.h"
 #include "btf/io/image.h"
 #include "cli_test_support.h"
 
@@ -144,4 +147,33 @@ TEST(Compare, OutputIntoAMissingFolderFailsAndLeavesNothing) {
   EXPECT_LT(scale.exit_code, 128) << scale.output;
 }
 
+namespace {
+
+// Two BTFs (a generated folder and its VQ-compressed form): the figures are the library's, and an
+// image against a BTF is refused.
+TEST(Compare, TwoBtfsGiveTheLibrarysMeasures) {
+  TempDir dir;
+  const std::filesystem::path folder = dir / "stones", packed = dir / "stones.btfz";
+  ASSERT_EQ(runDatagen({"btf", "--pattern", "stones", "--size", "6", "--seed", "2", "--format", "exr", "-o",
+                        folder.string()}).exit_code, 0);
+  ASSERT_EQ(runBtf({"compress", folder.string(), packed.string(), "--epsilon", "0.1", "--no-verify"}).exit_code, 0);
+  const CommandResult r = runBtf({"compare", packed.string(), folder.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json out = parseJsonOutput(r);
+  const BtfImageFolder reference_btf = BtfImageFolder::open(folder);
+  const VqBtf test = VqBtf::read(packed);
+  EXPECT_NEAR(out["rel_rmse"].get<double>(), compareBtf(reference_btf, test).rel_rmse, 1e-12);
+  const BtfSsimStats ssim = compareBtfSsim(reference_btf, test);
+  EXPECT_NEAR(out["mean_ssim"].get<double>(), ssim.mean_ssim, 1e-12);
+  EXPECT_NEAR(out["rel_rmse_display"].get<double>(), ssim.rel_rmse_display, 1e-12);
+  EXPECT_GT(out["rel_rmse"].get<double>(), 0.0);
+  EXPECT_LT(out["mean_ssim"].get<double>(), 1.0);
+
+  writeImage(dir / "image.exr", reference());
+  const CommandResult mixed = runBtf({"compare", (dir / "image.exr").string(), folder.string()});
+  EXPECT_EQ(mixed.exit_code, 1) << mixed.output;
+  EXPECT_NE(mixed.output.find("both be images or both be BTFs"), std::string::npos) << mixed.output;
+}
+
+}  // namespace
 }  // namespace btf::test

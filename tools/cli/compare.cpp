@@ -1,5 +1,7 @@
 // `btf compare A B`: how far a test image A is from a reference image B (relmse, rel_rmse,
-// psnr_db, max_abs), and optionally a heat map of the relative error.
+// psnr_db, max_abs), and optionally a heat map of the relative error. When A and B are BTFs (image
+// folders or .btfz files), how far BTF A is from BTF B over B's views: rel_rmse, psnr_db, the
+// displayed rel_rmse and mean SSIM (io/btf_quality.h) and B's noise floor.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -9,8 +11,10 @@
 #include <string>
 
 #include "btf/core/error.h"
+#include "btf/io/btf_quality.h"
 #include "btf/io/image.h"
 #include "btf/render/image_metrics.h"
+#include "btf_input.h"
 #include "commands.h"
 
 namespace btf::cli {
@@ -37,7 +41,52 @@ std::string formatMeasure(double v) {
   return buffer;
 }
 
+void runBtfCompare(const CompareOptions& o) {
+  if (!o.output.empty()) throw Error("compare: -o (a heat map) is for images, not BTFs");
+  const BtfInput test = openBtfInput(o.test), reference = openBtfInput(o.reference);
+  const BtfErrorStats e = compareBtf(*reference.source, *test.source);
+  const BtfSsimStats ssim = compareBtfSsim(*reference.source, *test.source);
+  const BtfNoiseFloor noise = estimateBtfNoiseFloor(*reference.source);
+  const nlohmann::json out{{"test", o.test},
+                           {"reference", o.reference},
+                           {"texels", {reference.source->width(), reference.source->height()}},
+                           {"views", reference.source->views().views()},
+                           {"rel_rmse", measureJson(e.rel_rmse)},
+                           {"psnr_db", measureJson(e.psnr_db)},
+                           {"rel_rmse_display", measureJson(ssim.rel_rmse_display)},
+                           {"mean_ssim", ssim.mean_ssim},
+                           {"min_image_ssim", ssim.min_image_ssim},
+                           {"ssim_white", ssim.white},
+                           {"noise_rel_rmse", noise.rel_rmse}};
+  if (o.json) {
+    std::cout << out.dump(2) << "\n";
+    return;
+  }
+  std::printf("test BTF %s against reference BTF %s: %d x %d texels, %s x 81 lights\n", o.test.c_str(),
+              o.reference.c_str(), reference.source->width(), reference.source->height(),
+              reference.source->views().describe().c_str());
+  std::printf("rel_rmse         %s  (RMSE / RMS of B, linear values)\n", formatMeasure(e.rel_rmse).c_str());
+  std::printf("psnr_db          %s  (peak = max of B)\n", formatMeasure(e.psnr_db).c_str());
+  std::printf("rel_rmse_display %s  (sRGB-encoded, clipped to white %g)\n", formatMeasure(ssim.rel_rmse_display).c_str(),
+              double(ssim.white));
+  std::printf("mean_ssim        %.6f  (worst image %.6f; luma, 8 x 8 windows, %zu images)\n", ssim.mean_ssim,
+              ssim.min_image_ssim, ssim.images);
+  std::printf("noise floor of B %s  (rel_rmse; rel_rmse is %.2f x it)\n", formatMeasure(noise.rel_rmse).c_str(),
+              noise.rel_rmse > 0 ? e.rel_rmse / noise.rel_rmse : 0.0);
+}
+
 void runCompare(const CompareOptions& o) {
+  std::error_code ec;
+  auto isBtf = [&](const std::string& p) {
+    return std::filesystem::is_directory(p, ec) || std::filesystem::path(p).extension() == ".btfz";
+  };
+  if (isBtf(o.test) || isBtf(o.reference)) {
+    if (!isBtf(o.test) || !isBtf(o.reference))
+      throw Error("compare: " + o.test + " and " + o.reference +
+                  " must both be images or both be BTFs (image folders or .btfz files)");
+    runBtfCompare(o);
+    return;
+  }
   const Image test = readImage(o.test);
   const Image reference = readImage(o.reference);
   const render::ImageComparison c = render::compareImages(test, reference, o.test, o.reference);
@@ -71,10 +120,15 @@ void runCompare(const CompareOptions& o) {
 }  // namespace
 
 void registerCompareCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("compare", "Compare a test image with a reference (relmse, rel_rmse, psnr_db, max_abs)");
+  auto* cmd = app.add_subcommand(
+      "compare",
+      "Compare a test image with a reference (relmse, rel_rmse, psnr_db, max_abs), or a test BTF with a reference BTF "
+      "(rel_rmse, psnr_db, displayed rel_rmse, mean SSIM, the reference's noise floor)");
   auto o = std::make_shared<CompareOptions>();
-  cmd->add_option("A", o->test, "Test image (EXR or any format OpenImageIO reads; linear values)")->required();
-  cmd->add_option("B", o->reference, "Reference image, the same size")->required();
+  cmd->add_option("A", o->test,
+                  "Test image (EXR or any format OpenImageIO reads; linear values), or a BTF (image folder or .btfz)")
+      ->required();
+  cmd->add_option("B", o->reference, "Reference image, the same size, or a BTF holding the views to compare")->required();
   cmd->add_option("-o,--output", o->output,
                   "Write a heat map of the relative error |A - B| / (|B| + 0.01) (viridis, sRGB; .png)");
   cmd->add_option("--scale", o->scale, "Relative error at the top (yellow) of the heat map")
