@@ -188,6 +188,29 @@ TEST(BenchCompressibility, AMeasuredSliceIsAnalysedBesideAPatternAtTheSameView) 
   }
 }
 
+// A camera in front of a pattern (noise, jitter, 8-bit codes) takes its near-twins away: the
+// median nearest-texel distance grows.
+TEST(BenchCompressibility, ACameraInFrontOfAPatternSeparatesItsTexels) {
+  TempDir dir;
+  auto median = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"bench", "compressibility", "-o", (dir / "out").string(), "--patterns", "fabric",
+                                  "--size", "12", "--max-view-theta", "0", "--directions", "0", "--epsilons", "0.05"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CommandResult r = runBtf(args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::stringstream csv(readBytes(dir / "out" / "compressibility.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::getline(csv, line);
+    const std::vector<std::string> row = splitCsvLine(line);
+    EXPECT_EQ(row[0], extra.empty() ? "fabric" : "fabric (camera)");
+    return std::stod(row[6]);  // nn_p50
+  };
+  const double clean = median({});
+  const double seen = median({"--camera-white", "1", "--camera-jitter", "0.5", "--camera-read-noise", "0.01"});
+  EXPECT_GT(seen, 1.5 * clean);
+}
+
 TEST(BenchCompressibility, BadOptionsFailNamingTheProblem) {
   TempDir dir;
   struct Case {

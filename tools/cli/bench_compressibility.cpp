@@ -30,6 +30,7 @@
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_subset.h"
 #include "btf_patterns.h"
+#include "camera_btf.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"
 #include "synthetic_btf.h"
@@ -45,7 +46,28 @@ struct Args {
   CompressibilityOptions analysis;
   std::string inputs;           // measured BTF image folders, comma-separated
   float max_view_theta = 75.0f;  // keep the views up to this elevation (degrees)
+  // A camera in front of the synthetic patterns (synthetic/camera_btf.h): white is the pattern's
+  // 99th percentile over its first view held, times camera_white.
+  synthetic::CameraOptions camera = [] {
+    synthetic::CameraOptions c;
+    c.quantize = true;  // as a camera stores them, unless --camera-float
+    return c;
+  }();
+  float camera_white = 0.0f;  // 0: no camera
 };
+
+// The 99th percentile of a view's channel values: a camera exposed for the sample's body.
+float exposureWhite(const BtfSource& source) {
+  std::vector<Rgb> values;
+  source.loadView(source.views().view(0), values);
+  std::vector<float> channels;
+  channels.reserve(values.size() * 3);
+  for (const Rgb& v : values)
+    for (int c = 0; c < 3; ++c) channels.push_back(v[c]);
+  const auto nth = channels.begin() + std::ptrdiff_t(0.99 * double(channels.size() - 1));
+  std::nth_element(channels.begin(), nth, channels.end());
+  return *nth > 0 ? *nth : 1.0f;
+}
 
 // The views of `held` up to max_theta_deg, or a btf::Error naming the source when there are none.
 BtfViewSet viewsUpTo(const BtfSource& source, float max_theta_deg) {
@@ -212,8 +234,17 @@ void runBenchCompressibility(const Args& args) {
   for (const std::string& input : inputs) folders.push_back(BtfImageFolder::open(input));
   std::filesystem::create_directories(args.output);
   std::vector<PatternResult> results;
-  auto analyze = [&](const std::string& name, const BtfSource& whole, std::chrono::steady_clock::time_point start) {
-    const BtfSubset source(whole, BtfSubset::centredRect(whole, args.size, args.size), viewsUpTo(whole, args.max_view_theta));
+  auto analyze = [&](const std::string& name, const BtfSource& whole, std::chrono::steady_clock::time_point start,
+                     bool synthetic) {
+    const BtfSubset subset(whole, BtfSubset::centredRect(whole, args.size, args.size), viewsUpTo(whole, args.max_view_theta));
+    std::optional<synthetic::CameraBtf> camera;
+    if (synthetic && args.camera_white > 0) {
+      synthetic::CameraOptions options = args.camera;
+      options.white = args.camera_white * exposureWhite(subset);
+      options.seed = args.seed;
+      camera.emplace(subset, options);
+    }
+    const BtfSource& source = camera ? static_cast<const BtfSource&>(*camera) : subset;
     PatternResult p{name, source.width(), analyzeCompressibility(source, args.analysis), 0};
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%-8s %dx%d, %s: nearest-texel distance median %.4f, rank at epsilon %g: %d (%.1f s)\n",
@@ -225,9 +256,10 @@ void runBenchCompressibility(const Args& args) {
   };
   for (std::size_t i = 0; i < patterns.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
-    analyze(patterns[i], *synthetic::makeSyntheticBtf(parsed[i], args.size, args.size, args.seed), start);
+    analyze(patterns[i] + (args.camera_white > 0 ? " (camera)" : ""),
+            *synthetic::makeSyntheticBtf(parsed[i], args.size, args.size, args.seed), start, true);
   }
-  for (const BtfImageFolder& folder : folders) analyze(folder.name(), folder, std::chrono::steady_clock::now());
+  for (const BtfImageFolder& folder : folders) analyze(folder.name(), folder, std::chrono::steady_clock::now(), false);
   const std::filesystem::path folder = args.output;
   const std::filesystem::path csv = folder / "compressibility.csv";
   writeCsv(csv, results);
@@ -272,6 +304,21 @@ void addBenchCompressibilityCommand(CLI::App& bench) {
                   "(view, light) pairs sampled from the 6561 (0: all)")
       ->capture_default_str()
       ->check(CLI::Range(0, 6561));
+  cmd->add_option("--camera-white", args->camera_white,
+                  "Put a camera in front of the synthetic patterns (synthetic/camera_btf.h): white = this x the "
+                  "99th percentile of the first view (0: no camera)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--camera-jitter", args->camera.jitter, "Camera: registration error, texels")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--camera-read-noise", args->camera.read_noise, "Camera: read noise std, in units of white")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--camera-shot-noise", args->camera.shot_noise, "Camera: shot noise std at white, in units of white")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("!--camera-float", args->camera.quantize, "Camera: keep float values (default: 8-bit sRGB codes)");
   cmd->add_option("--epsilons", args->analysis.epsilons, "Tolerances, each in (0, 1)")
       ->delimiter(',')
       ->capture_default_str();

@@ -1,0 +1,80 @@
+#include "camera_btf.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "btf/core/error.h"
+#include "btf/core/math.h"
+#include "btf/core/rng.h"
+
+namespace btf::synthetic {
+namespace {
+
+float srgbEncode(float v) { return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f; }
+float srgbDecode(float e) { return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f); }
+
+// A standard normal by Box-Muller from two uniforms of the stream (the first kept away from 0).
+float gaussian(Rng& rng) {
+  const float u1 = std::max(rng.uniform(), 0x1p-24f), u2 = rng.uniform();
+  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
+}
+
+void requireOption(bool ok, const std::string& what) {
+  if (!ok) throw Error("camera: " + what);
+}
+
+}  // namespace
+
+CameraBtf::CameraBtf(const BtfSource& source, const CameraOptions& options)
+    : source_(source), options_(options), name_(source.name() + " (camera)") {
+  requireOption(std::isfinite(options.white) && options.white > 0, "white must be finite and > 0");
+  requireOption(std::isfinite(options.jitter) && options.jitter >= 0, "jitter must be finite and >= 0 texels");
+  requireOption(std::isfinite(options.read_noise) && options.read_noise >= 0, "read noise must be finite and >= 0");
+  requireOption(std::isfinite(options.shot_noise) && options.shot_noise >= 0, "shot noise must be finite and >= 0");
+}
+
+void CameraBtf::loadView(int view, std::vector<Rgb>& out) const {
+  std::vector<Rgb> clean;
+  source_.loadView(view, clean);
+  const int w = width(), h = height();
+  const std::size_t texels = std::size_t(w) * std::size_t(h);
+  if (clean.size() != texels * kBtfDirectionCount)
+    throw Error(source_.name() + ": view " + std::to_string(view) + " has the wrong number of values");
+  out.resize(clean.size());
+  const CameraOptions& o = options_;
+  const float read_var = (o.read_noise * o.white) * (o.read_noise * o.white);
+  const float shot_gain = o.shot_noise * o.shot_noise * o.white;
+  tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
+    Rng rng(o.seed, std::uint64_t(view) * kBtfDirectionCount + std::uint64_t(light));
+    const Rgb* src = clean.data() + std::size_t(light) * texels;
+    Rgb* dst = out.data() + std::size_t(light) * texels;
+    const float dx = o.jitter * (2.0f * rng.uniform() - 1.0f), dy = o.jitter * (2.0f * rng.uniform() - 1.0f);
+    const float fx = dx - std::floor(dx), fy = dy - std::floor(dy);
+    const int ox = int(std::floor(dx)), oy = int(std::floor(dy));
+    auto at = [&](int x, int y) {
+      x = ((x % w) + w) % w;
+      y = ((y % h) + h) % h;
+      return src[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+    };
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int sx = x + ox, sy = y + oy;
+        Rgb v = o.jitter > 0 ? at(sx, sy) * ((1 - fx) * (1 - fy)) + at(sx + 1, sy) * (fx * (1 - fy)) +
+                                   at(sx, sy + 1) * ((1 - fx) * fy) + at(sx + 1, sy + 1) * (fx * fy)
+                             : at(x, y);
+        for (int c = 0; c < 3; ++c) {
+          float value = v[c];
+          const float variance = read_var + shot_gain * std::max(value, 0.0f);
+          if (variance > 0) value += std::sqrt(variance) * gaussian(rng);
+          value = std::clamp(value, 0.0f, o.white);
+          if (o.quantize) value = srgbDecode(std::round(srgbEncode(value / o.white) * 255.0f) / 255.0f) * o.white;
+          v[c] = value;
+        }
+        dst[std::size_t(y) * std::size_t(w) + std::size_t(x)] = v;
+      }
+  });
+}
+
+}  // namespace btf::synthetic
