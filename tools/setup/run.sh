@@ -83,6 +83,11 @@ demo() {
     "$bin/btf" convert "$real/rgl_bsdf/vch_golden_yellow_rgb.bsdf" "$out/vch_golden_yellow.binary"
     "$bin/btf" plot "$real/rgl_bsdf/vch_golden_yellow_rgb.bsdf" -o "$out/vch_golden_yellow_rgl.png"
     "$bin/btf" plot "$out/vch_golden_yellow.binary" -o "$out/vch_golden_yellow_merl.png"
+    echo "== a real measured BTF slice (Bonn UBO2003 WALLPAPER, one view, 8-bit sRGB JPEG): facts, then compressed"
+    echo "   and judged by rel_rmse, SSIM and its own noise floor"
+    "$bin/btf" info "$real/btf/ubo2003_wallpaper_view000"
+    "$bin/btf" compress "$real/btf/ubo2003_wallpaper_view000" "$out/wallpaper-view000.btfz" --epsilon 0.2 --levels 2 \
+      --chroma-epsilon 0.2
     echo "== a MERL material from its published ABC fit, compared with its other fits"
     "$bin/btf-datagen" --merl-fit gold-metallic-paint --model abc --seed 1 -o "$out/gold-metallic-paint.binary"
     "$bin/btf" info "$out/gold-metallic-paint.binary"
