@@ -8,12 +8,10 @@
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
+#include "btf/io/image.h"
 
 namespace btf::synthetic {
 namespace {
-
-float srgbEncode(float v) { return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f; }
-float srgbDecode(float e) { return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f); }
 
 // A standard normal by Box-Muller from two uniforms of the stream (the first kept away from 0).
 float gaussian(Rng& rng) {

@@ -19,6 +19,7 @@
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
 #include "btf/io/atomic_file.h"
+#include "btf/io/image.h"
 
 namespace btf {
 namespace fs = std::filesystem;
@@ -90,11 +91,6 @@ Sidecar readSidecar(const fs::path& folder) {
   }
   return result;
 }
-
-// The sRGB decoding curve (IEC 61966-2-1), from code / max_code in [0, 1] to linear, as a table
-// over the 256 codes of an 8-bit image (16-bit codes are computed: they are rarely sRGB).
-float srgbToLinear(float e) { return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f); }
-float linearToSrgb(float v) { return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f; }
 
 }  // namespace
 
@@ -282,7 +278,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
     std::array<float, 256> table;
     for (int code = 0; code < 256; ++code) {
       const float e = float(code) / 255.0f;
-      table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbToLinear(e) : e) * value_scale_;
+      table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbDecode(e) : e) * value_scale_;
     }
     std::vector<std::uint8_t> codes(texels * 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
@@ -298,7 +294,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
   const bool is_float = spec.format.is_floating_point();
   const float scale = is_float ? 1.0f : value_scale_;
   if (transfer == BtfTransfer::Srgb)
-    for (float& p : pixels) p = srgbToLinear(p);
+    for (float& p : pixels) p = srgbDecode(p);  // 16-bit codes: rarely sRGB, not worth a table
   for (std::size_t i = 0; i < texels; ++i) {
     const Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
     if (is_float && (!v.isFinite() || v.minComponent() < 0.0f))
@@ -374,7 +370,7 @@ std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_sca
   for (std::size_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c) {
       float e = std::clamp(values[i][c] / value_scale, 0.0f, 1.0f);
-      if (transfer == BtfTransfer::Srgb) e = linearToSrgb(e);
+      if (transfer == BtfTransfer::Srgb) e = srgbEncode(e);
       codes[3 * i + std::size_t(c)] = Code(std::lround(e * kMaxCode));
     }
   return codes;

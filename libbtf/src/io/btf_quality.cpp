@@ -12,6 +12,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
+#include "btf/io/image.h"
 
 namespace btf {
 namespace {
@@ -100,9 +101,6 @@ float defaultWhite(const BtfSource& reference) {
     throw Error(reference.name() + ": cannot choose a white for SSIM: the BTF has no finite value > 0 (give one)");
   return white;
 }
-
-// IEC 61966-2-1 encoding of a linear value in [0, 1].
-float srgbEncode(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
 
 // The colour as a camera shows it: divided by white, clipped, sRGB-encoded.
 Rgb displayed(const Rgb& rgb, float inv_white) {

@@ -93,6 +93,11 @@ float srgbEncode(float linear) {
   return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
 }
 
+float srgbDecode(float encoded) {
+  const float e = std::clamp(encoded, 0.0f, 1.0f);
+  return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
+}
+
 Image toneMapToSrgb(const Image& linear, float exposure_stops) {
   Image out = linear;
   const float scale = std::exp2(exposure_stops);

@@ -44,8 +44,10 @@ void writeImage(const std::filesystem::path& path, const Image& image);
 // Reads any format OpenImageIO knows, converted to float (8-bit data maps to [0, 1]).
 Image readImage(const std::filesystem::path& path);
 
-// sRGB transfer function of one linear value in [0, 1] (clamped).
+// The sRGB transfer curves (IEC 61966-2-1): encoding a linear value in [0, 1] (clamped; 12.92 x
+// below 0.0031308, 1.055 x^(1/2.4) - 0.055 above) and decoding an encoded one in [0, 1] (clamped).
 float srgbEncode(float linear);
+float srgbDecode(float encoded);
 // Linear radiance -> displayable [0, 1] sRGB values: multiply by 2^exposure_stops, clamp, encode.
 // Alpha (a fourth channel) is copied unchanged.
 Image toneMapToSrgb(const Image& linear, float exposure_stops = 0.0f);
