@@ -10,6 +10,7 @@
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
 #include "btf_patterns.h"
+#include "camera_btf.h"
 
 namespace btf::datagen {
 namespace fs = std::filesystem;
@@ -36,8 +37,8 @@ CLI::App* addBtfCommand(CLI::App& app, BtfCommandOptions& o) {
       "btf",
       "Synthetic BTF: a procedural microgeometry observed from the 81 x 81 directions of image-based BTF\n"
       "measurements (parallax, masking, self-shadowing), written as an image folder tvTTT_pvPPP_tlTTT_plPPP.png");
-  cmd->add_option("--pattern", o.pattern, "Sample: fabric, stones, paint or leather")
-      ->check(CLI::IsMember({"fabric", "stones", "paint", "leather"}))
+  cmd->add_option("--pattern", o.pattern, "Sample: fabric, stones, paint, leather or print (a printed paper, low-rank like measured prints)")
+      ->check(CLI::IsMember(synthetic::btfPatternNames()))
       ->capture_default_str();
   cmd->add_option("--size", o.size, "Texels along each side (16 for tests, 256 for benchmarks)")
       ->check(CLI::Range(1, 4096))
@@ -54,6 +55,9 @@ CLI::App* addBtfCommand(CLI::App& app, BtfCommandOptions& o) {
                   "(default: the BTF's largest value, found by a first pass over the data)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-o,--output", o.output, "Output folder (created; replaces an older BTF folder)")->required();
+  cmd->add_flag("--camera", o.camera,
+                "Record it as a measurement's camera does: registration error, sensor noise, 8-bit sRGB PNG clipped at\n"
+                "an auto-exposed white (the camera the print pattern is calibrated with; README)");
   cmd->add_flag("--json", o.json, "Machine-readable summary");
   return cmd;
 }
@@ -66,6 +70,8 @@ void runBtfCommand(const BtfCommandOptions& o) {
   // Fail before the work, not after it.
   if (o.value_scale > 0 && format == BtfImageFormat::Exr)
     throw Error("--value-scale applies to PNG only (EXR stores the values themselves)");
+  if (o.camera && (format != BtfImageFormat::Png8 || o.value_scale > 0))
+    throw Error("--camera writes 8-bit sRGB PNGs at its own exposure: it takes neither --format png16/exr nor --value-scale");
   if (!parent.empty() && !fs::is_directory(parent)) throw FileError(output, "folder " + parent.string() + " does not exist");
 
   const auto start = std::chrono::steady_clock::now();
@@ -73,7 +79,16 @@ void runBtfCommand(const BtfCommandOptions& o) {
   BtfImageWriteOptions options;
   options.format = format;
   if (o.value_scale > 0) options.value_scale = o.value_scale;
-  writeBtfImageFolder(*btf, output, options);
+  if (o.camera) {
+    // The camera's values are decoded 8-bit sRGB codes of its white: written with that white as the
+    // PNGs' value_scale, the files hold exactly the camera's codes.
+    const synthetic::CameraOptions camera_options = synthetic::measuredCameraOptions(*btf, o.seed);
+    const synthetic::CameraBtf camera(*btf, camera_options);
+    options.value_scale = camera_options.white;
+    writeBtfImageFolder(camera, output, options);
+  } else {
+    writeBtfImageFolder(*btf, output, options);
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const BtfImageFolder written = BtfImageFolder::open(output);
   const std::uintmax_t bytes = folderBytes(output);
@@ -82,7 +97,8 @@ void runBtfCommand(const BtfCommandOptions& o) {
     const nlohmann::json out{{"output", o.output},       {"pattern", o.pattern},    {"size", o.size},
                              {"seed", o.seed},           {"format", o.format},      {"name", btf->name()},
                              {"images", kBtfDirectionCount * kBtfDirectionCount},   {"bytes", bytes},
-                             {"value_scale", written.valueScale()},                 {"seconds", seconds}};
+                             {"value_scale", written.valueScale()},                 {"seconds", seconds},
+                             {"camera", o.camera}};
     std::cout << out.dump(2) << "\n";
     return;
   }

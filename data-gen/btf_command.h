@@ -17,6 +17,7 @@ struct BtfCommandOptions {
   std::string output;
   float value_scale = 0;  // PNG: value of the largest code; 0 = the BTF's largest value (lossless range)
   bool json = false;
+  bool camera = false;  // through synthetic::measuredCameraOptions: jitter, noise, 8-bit sRGB PNG
 };
 
 // Adds the subcommand to `app`; its options land in `options`.

@@ -209,10 +209,58 @@ void makeLeather(Microgeometry& g, std::uint64_t seed) {
   });
 }
 
+// ---- print -----------------------------------------------------------------------------------
+
+// A printed paper, as wallpapers are made: a motif of two inks repeating every 8 to 24 texels,
+// printed on a matte paper with fine fibre grain and a shallow emboss under the inks. Unlike the
+// other samples it is low-rank on purpose: three materials and one motif make texels repeat up to
+// the grain, registration and sub-texel phase (the motif's pitch is not a whole number of texels),
+// as the texels of measured prints do.
+void makePrint(Microgeometry& g, std::uint64_t seed) {
+  const glm::vec2 period(float(g.width), float(g.height));
+  const std::uint64_t key = subKey(seed, 50), grain = subKey(seed, 51), mottle = subKey(seed, 52);
+  const float motif = 8.0f + 16.0f * hash01(key, 1);  // texels
+  const int nx = std::max(1, int(std::lround(period.x / motif))), ny = std::max(1, int(std::lround(period.y / motif)));
+  const glm::vec2 pitch(period.x / float(nx), period.y / float(ny));
+  const Rgb paper = jitterColour(Rgb(0.78f, 0.74f, 0.64f), subKey(seed, 53), 0.05f);
+  const Rgb ink1 = jitterColour(pick(subKey(seed, 54), {{0.45f, 0.12f, 0.10f}, {0.12f, 0.20f, 0.42f},
+                                                        {0.20f, 0.32f, 0.16f}, {0.50f, 0.38f, 0.12f}}),
+                                subKey(seed, 55), 0.1f);
+  const Rgb ink2 = jitterColour(pick(subKey(seed, 56), {{0.62f, 0.55f, 0.30f}, {0.30f, 0.30f, 0.32f},
+                                                        {0.55f, 0.30f, 0.25f}}),
+                                subKey(seed, 57), 0.1f);
+  g.materials = {std::make_shared<Lambert>(paper), std::make_shared<Ggx>(ink1, Rgb(0.04f), 0.35f, 0.35f),
+                 std::make_shared<Lambert>(ink2)};
+  const float phase = hash01(key, 2);
+  fill(g, [&](glm::vec2 p) {
+    const glm::vec2 q = p / pitch;  // motif cells
+    const glm::vec2 f = q - glm::floor(q);
+    // Ink 1: four-petal rosettes; ink 2: a ring around them and a thin diagonal trellis.
+    const float petals = 0.5f + 0.5f * std::sin(kTwoPi * (f.x + phase)) * std::sin(kTwoPi * (f.y + phase));
+    const float ring = std::abs(glm::length(f - glm::vec2(0.5f)) - 0.32f);
+    const float trellis = std::abs(std::sin(kPi * (f.x + f.y)));
+    const float fibres = periodicFbm(p, period, 1.5f, 3, grain);
+    // Ink density varies from print to print of the motif, and the paper's colour is mottled.
+    const glm::ivec2 cell(int(std::floor(q.x)), int(std::floor(q.y)));
+    const float density = 1.0f + 0.12f * (hash01(key, cell.x, cell.y) - 0.5f);
+    const Rgb tint = Rgb(1.0f + 0.08f * periodicFbm(p, period, 5.0f, 3, mottle)) * density;
+    std::uint8_t material = 0;
+    float emboss = 0.0f;
+    if (petals > 0.78f) {
+      material = 1;
+      emboss = 0.5f * smoothstep(0.78f, 0.9f, petals);
+    } else if (ring < 0.05f || trellis < 0.08f) {
+      material = 2;
+      emboss = 0.25f;
+    }
+    return SurfacePoint{emboss + 0.1f * fibres, material, material == 0 ? Rgb(tint.r / density) : tint, 0.0f};
+  });
+}
+
 }  // namespace
 
 const std::vector<std::string>& btfPatternNames() {
-  static const std::vector<std::string> names{"fabric", "stones", "paint", "leather"};
+  static const std::vector<std::string> names{"fabric", "stones", "paint", "leather", "print"};
   return names;
 }
 
@@ -222,7 +270,7 @@ BtfPattern parseBtfPattern(std::string_view name) {
   const auto& names = btfPatternNames();
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return BtfPattern(i);
-  throw Error("unknown BTF pattern '" + std::string(name) + "' (choose fabric, stones, paint or leather)");
+  throw Error("unknown BTF pattern '" + std::string(name) + "' (choose fabric, stones, paint, leather or print)");
 }
 
 Microgeometry makePatternMicrogeometry(BtfPattern pattern, int width, int height, std::uint64_t seed,
@@ -233,6 +281,7 @@ Microgeometry makePatternMicrogeometry(BtfPattern pattern, int width, int height
     case BtfPattern::Stones: makeStones(g, seed); break;
     case BtfPattern::Paint: makePaint(g, seed); break;
     case BtfPattern::Leather: makeLeather(g, seed); break;
+    case BtfPattern::Print: makePrint(g, seed); break;
   }
   g.validate();
   return g;

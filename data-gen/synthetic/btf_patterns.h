@@ -9,6 +9,8 @@
 //             GGX, Lafortune) set in grainy Lambertian mortar.
 //   paint   — bumpy glossy coat (GGX) with brush streaks and sparse tilted metallic flakes.
 //   leather — grain cells and larger creases with dark grooves; glossy Lafortune top, mottled dye.
+//   print   — a printed paper: a two-ink motif repeating every 8-24 texels on matte, grainy paper
+//             with a shallow emboss; low-rank like measured prints (the others are not).
 #pragma once
 
 #include <cstdint>
@@ -22,9 +24,9 @@
 
 namespace btf::synthetic {
 
-enum class BtfPattern { Fabric, Stones, Paint, Leather };
+enum class BtfPattern { Fabric, Stones, Paint, Leather, Print };
 
-// "fabric", "stones", "paint", "leather".
+// "fabric", "stones", "paint", "leather", "print".
 const std::vector<std::string>& btfPatternNames();
 std::string btfPatternName(BtfPattern pattern);
 // Throws btf::Error naming the valid patterns.

@@ -25,6 +25,30 @@ void requireOption(bool ok, const std::string& what) {
 
 }  // namespace
 
+float exposureWhite(const BtfSource& source) {
+  std::vector<Rgb> values;
+  source.loadView(source.views().view(0), values);
+  std::vector<float> channels;
+  channels.reserve(values.size() * 3);
+  for (const Rgb& v : values)
+    for (int c = 0; c < 3; ++c) channels.push_back(v[c]);
+  if (channels.empty()) return 1.0f;
+  const auto nth = channels.begin() + std::ptrdiff_t(0.99 * double(channels.size() - 1));
+  std::nth_element(channels.begin(), nth, channels.end());
+  return *nth > 0 ? *nth : 1.0f;
+}
+
+CameraOptions measuredCameraOptions(const BtfSource& source, std::uint64_t seed) {
+  CameraOptions options;
+  options.white = exposureWhite(source);
+  options.jitter = 0.2f;
+  options.read_noise = 0.008f;
+  options.shot_noise = 0.02f;
+  options.quantize = true;
+  options.seed = seed;
+  return options;
+}
+
 CameraBtf::CameraBtf(const BtfSource& source, const CameraOptions& options)
     : source_(source), options_(options), name_(source.name() + " (camera)") {
   requireOption(std::isfinite(options.white) && options.white > 0, "white must be finite and > 0");

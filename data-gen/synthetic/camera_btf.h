@@ -33,6 +33,15 @@ struct CameraOptions {
   std::uint64_t seed = 1;
 };
 
+// An auto-exposure: the 99th percentile of the channel values of the source's first view held, so
+// that the brightest 1 % clip as in a measured sample's images (1 when that percentile is 0).
+float exposureWhite(const BtfSource& source);
+
+// The camera the print pattern is calibrated with against the measured WALLPAPER slice (README,
+// "A generator calibrated to real data"): registration error up to 0.2 texel, read noise 0.8 % and
+// shot noise 2 % of white, 8-bit sRGB codes, white by exposureWhite(source).
+CameraOptions measuredCameraOptions(const BtfSource& source, std::uint64_t seed);
+
 class CameraBtf final : public BtfSource {
  public:
   // Throws btf::Error for an option out of range. `source` must outlive the camera.

@@ -45,7 +45,8 @@ inline BtfData makeGgxBtf(int width, int height, bool colour_per_texel) {
 inline double luminanceRelRmse(const BtfSource& reference, const BtfSource& test) {
   std::vector<Rgb> a, b;
   double err = 0, ref = 0;
-  for (int v = 0; v < kBtfDirectionCount; ++v) {
+  for (int slot = 0; slot < reference.views().count(); ++slot) {
+    const int v = reference.views().view(slot);
     reference.loadView(v, a);
     test.loadView(v, b);
     for (std::size_t i = 0; i < a.size(); ++i) {

@@ -56,19 +56,6 @@ struct Args {
   float camera_white = 0.0f;  // 0: no camera
 };
 
-// The 99th percentile of a view's channel values: a camera exposed for the sample's body.
-float exposureWhite(const BtfSource& source) {
-  std::vector<Rgb> values;
-  source.loadView(source.views().view(0), values);
-  std::vector<float> channels;
-  channels.reserve(values.size() * 3);
-  for (const Rgb& v : values)
-    for (int c = 0; c < 3; ++c) channels.push_back(v[c]);
-  const auto nth = channels.begin() + std::ptrdiff_t(0.99 * double(channels.size() - 1));
-  std::nth_element(channels.begin(), nth, channels.end());
-  return *nth > 0 ? *nth : 1.0f;
-}
-
 // The views of `held` up to max_theta_deg, or a btf::Error naming the source when there are none.
 BtfViewSet viewsUpTo(const BtfSource& source, float max_theta_deg) {
   std::vector<int> kept;
@@ -240,7 +227,7 @@ void runBenchCompressibility(const Args& args) {
     std::optional<synthetic::CameraBtf> camera;
     if (synthetic && args.camera_white > 0) {
       synthetic::CameraOptions options = args.camera;
-      options.white = args.camera_white * exposureWhite(subset);
+      options.white = args.camera_white * synthetic::exposureWhite(subset);
       options.seed = args.seed;
       camera.emplace(subset, options);
     }

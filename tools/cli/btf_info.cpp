@@ -1,11 +1,14 @@
 // `btf info` on BTFs: an image folder (size, value scale, image format) or a .btfz file (what the
-// compressor kept: options, codebook sizes, sections and their bytes, ratios).
+// compressor kept: options, codebook sizes, sections and their bytes, ratios; for a database, its
+// materials).
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
 #include "btf/compress/vq_btf.h"
+#include "btf/compress/vq_database.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/container.h"
 #include "btf_input.h"
@@ -40,15 +43,25 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
     std::printf("float images: values are the apparent BRDF (1/sr)\n");
 }
 
-void runBtfzInfo(const std::filesystem::path& file, bool json) {
-  const std::vector<ContainerSection> sections = readContainer(file);
-  const VqBtf btf = VqBtf::read(file);
-  const std::uint64_t bytes = std::filesystem::file_size(file);
-  const double raw_u8 = double(btf.entryCount()) * 3.0;
+nlohmann::json sectionList(const std::vector<ContainerSection>& sections) {
   nlohmann::json list = nlohmann::json::array();
   for (const ContainerSection& s : sections)
     list.push_back({{"name", s.name}, {"type", std::string(sectionTypeName(s.type))}, {"raw_bytes", s.data.size()},
                     {"stored_bytes", s.stored_bytes}, {"zstd", s.compress}});
+  return list;
+}
+
+void printSections(const std::vector<ContainerSection>& sections) {
+  std::printf("%-28s %-13s %12s %12s\n", "section", "type", "raw bytes", "stored");
+  for (const ContainerSection& s : sections)
+    std::printf("%-28s %-13s %12zu %12llu%s\n", s.name.c_str(), std::string(sectionTypeName(s.type)).c_str(), s.data.size(),
+                static_cast<unsigned long long>(s.stored_bytes), s.compress ? " (zstd)" : "");
+}
+
+void runSingleBtfzInfo(const std::filesystem::path& file, const std::vector<ContainerSection>& sections, bool json) {
+  const VqBtf btf = VqBtf::read(file);
+  const std::uint64_t bytes = std::filesystem::file_size(file);
+  const double raw_u8 = double(btf.entryCount()) * 3.0;
   const nlohmann::json facts{{"file", file.string()},
                              {"format", "btfz (multi-level VQ)"},
                              {"texels", {btf.width(), btf.height()}},
@@ -60,7 +73,7 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
                              {"bytes", bytes},
                              {"ratio_u8", raw_u8 / double(bytes)},
                              {"ratio_f32", 4.0 * raw_u8 / double(bytes)},
-                             {"sections", list}};
+                             {"sections", sectionList(sections)}};
   if (json) {
     std::cout << facts.dump(2) << '\n';
     return;
@@ -72,10 +85,67 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
   for (std::size_t n : btf.stats().codebook_entries) std::printf(" %zu", n);
   std::printf("\n%llu bytes: ratio_u8 %.1f, ratio_f32 %.1f\n", static_cast<unsigned long long>(bytes),
               facts["ratio_u8"].get<double>(), facts["ratio_f32"].get<double>());
-  std::printf("%-28s %-13s %12s %12s\n", "section", "type", "raw bytes", "stored");
+  printSections(sections);
+}
+
+// A database: its options and shared codebooks, then one line per material with the bytes of its
+// own sections (the shared ones are listed once).
+void runDatabaseInfo(const std::filesystem::path& file, const std::vector<ContainerSection>& sections, bool json) {
+  const VqDatabase db = VqDatabase::read(file);
+  const std::uint64_t bytes = std::filesystem::file_size(file);
+  std::vector<ContainerSection> shared;
+  nlohmann::json materials = nlohmann::json::array();
+  for (std::size_t i = 0; i < db.size(); ++i) {
+    const VqBtf& m = db.materials()[i];
+    const std::string prefix = "material" + std::to_string(i) + "/";
+    std::uint64_t own = 0;
+    for (const ContainerSection& s : sections)
+      if (s.name.starts_with(prefix)) own += s.stored_bytes;
+    materials.push_back({{"name", db.names()[i]},
+                         {"texels", {m.width(), m.height()}},
+                         {"views", m.views().views()},
+                         {"codebook_entries", m.stats().codebook_entries},
+                         {"own_stored_bytes", own}});
+  }
   for (const ContainerSection& s : sections)
-    std::printf("%-28s %-13s %12zu %12llu%s\n", s.name.c_str(), std::string(sectionTypeName(s.type)).c_str(), s.data.size(),
-                static_cast<unsigned long long>(s.stored_bytes), s.compress ? " (zstd)" : "");
+    if (!s.name.starts_with("material")) shared.push_back(s);
+  const nlohmann::json facts{{"file", file.string()},
+                             {"format", "btfz database (multi-level VQ, shared codebooks)"},
+                             {"epsilon", db.options().epsilon},
+                             {"chroma_epsilon", db.options().chroma_epsilon},
+                             {"levels", db.options().levels},
+                             {"shared_codebook_entries", db.sharedEntries()},
+                             {"bytes", bytes},
+                             {"ratio_u8", db.rawBytesU8() / double(bytes)},
+                             {"materials", materials},
+                             {"sections", sectionList(sections)}};
+  if (json) {
+    std::cout << facts.dump(2) << '\n';
+    return;
+  }
+  std::printf("%s: btfz database of %zu materials (multi-level VQ, shared codebooks)\n", file.c_str(), db.size());
+  std::printf("epsilon %g, chroma_epsilon %g, %d levels; shared codebook entries (level 1, level 2):",
+              db.options().epsilon, db.options().chroma_epsilon, db.options().levels);
+  for (std::size_t n : db.sharedEntries()) std::printf(" %zu", n);
+  std::printf("\n%llu bytes: ratio_u8 %.1f\n", static_cast<unsigned long long>(bytes), facts["ratio_u8"].get<double>());
+  std::printf("%-28s %-12s %6s %14s %12s\n", "material", "texels", "views", "level-3 entries", "own bytes");
+  for (const auto& m : materials) {
+    const std::string texels = std::to_string(m["texels"][0].get<int>()) + " x " + std::to_string(m["texels"][1].get<int>());
+    const auto& entries = m["codebook_entries"];
+    std::printf("%-28s %-12s %6zu %14s %12llu\n", m["name"].get<std::string>().c_str(), texels.c_str(), m["views"].size(),
+                db.options().levels == 3 ? std::to_string(entries.back().get<std::size_t>()).c_str() : "-",
+                static_cast<unsigned long long>(m["own_stored_bytes"].get<std::uint64_t>()));
+  }
+  std::printf("shared sections:\n");
+  printSections(shared);
+}
+
+void runBtfzInfo(const std::filesystem::path& file, bool json) {
+  const std::vector<ContainerSection> sections = readContainer(file);
+  const bool database = std::any_of(sections.begin(), sections.end(),
+                                    [](const ContainerSection& s) { return s.name.starts_with("material0/"); });
+  if (database) runDatabaseInfo(file, sections, json);
+  else runSingleBtfzInfo(file, sections, json);
 }
 
 }  // namespace

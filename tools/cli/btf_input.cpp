@@ -3,6 +3,8 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
+#include "btf/io/merl_fits.h"
+#include "merl_fit_report.h"
 #include "measured_file.h"
 
 namespace btf::cli {
@@ -21,7 +23,25 @@ BtfData brdfAsBtf(const Material& material, const std::string& name) {
   return data;
 }
 
+namespace {
+// "merl-fit:MODEL:NAME" (e.g. merl-fit:sgd:alum-bronze): a published fit of a MERL material, from
+// the fits folder the other verbs use (tools/common/merl_fit_report.h).
+BtfInput openMerlFit(const std::string& spec) {
+  const std::string rest = spec.substr(std::string(kMerlFitPrefix).size());
+  const std::size_t colon = rest.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == rest.size())
+    throw Error("'" + spec + "': expected merl-fit:MODEL:NAME, e.g. merl-fit:sgd:alum-bronze");
+  const FitModel model = parseFitModel(rest.substr(0, colon));
+  const std::string name = rest.substr(colon + 1);
+  const MerlFits fits = MerlFits::load(findMerlFitsFolder(tools::defaultFitsFolders()));
+  const auto material = makeMerlFitMaterial(fits, name, model);
+  auto data = std::make_shared<BtfData>(brdfAsBtf(*material, name + "-" + fitModelName(model)));
+  return {BtfInputKind::Brdf, data, std::string(fitModelName(model)) + " fit of a MERL material as a one-texel BTF at 81 x 81 directions"};
+}
+}  // namespace
+
 BtfInput openBtfInput(const std::filesystem::path& path) {
+  if (path.string().starts_with(kMerlFitPrefix)) return openMerlFit(path.string());
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     auto folder = std::make_shared<BtfImageFolder>(BtfImageFolder::open(path));

@@ -2,6 +2,7 @@
 //   a folder          an image-folder BTF (io/btf_images.h)
 //   FILE.btfz         a VQ-compressed BTF (compress/vq_btf.h)
 //   .binary/.bsdf/.exr a measured BRDF, as a one-texel BTF sampled at the 81 x 81 directions
+//   merl-fit:MODEL:NAME a published fit of a MERL material (io/merl_fits.h), the same way
 #pragma once
 
 #include <filesystem>
@@ -20,6 +21,8 @@ struct BtfInput {
   std::shared_ptr<const BtfSource> source;
   std::string description;  // e.g. "image-folder BTF (png8)"
 };
+
+inline constexpr const char* kMerlFitPrefix = "merl-fit:";
 
 // Throws FileError for a missing path or an unknown kind of file.
 BtfInput openBtfInput(const std::filesystem::path& path);

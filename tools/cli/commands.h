@@ -12,7 +12,7 @@ void registerConvertCommand(CLI::App& app);
 void registerPlotCommand(CLI::App& app);
 void registerSampleCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
-void registerCompressCommands(CLI::App& app);  // compress and decompress
+void registerCompressCommands(CLI::App& app);  // compress, decompress and merge
 void registerCompareCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 

@@ -1,6 +1,8 @@
 // `btf compress IN OUT.btfz`: multi-level VQ of a BTF (an image folder, or a BRDF file as a
 // one-texel BTF), then a check of the written file against the input (rel_rmse, psnr_db, ratios).
-// `btf decompress IN.btfz OUT_DIR`: the image folder of a .btfz (EXR or PNG).
+// `btf compress IN1 IN2 ... OUT.btfz`: a database of materials with shared codebooks.
+// `btf decompress IN.btfz OUT_DIR [--material NAME]`: the image folder of a .btfz (EXR or PNG).
+// `btf merge A.btfz B.btfz ... -o DB.btfz`: files compressed apart joined into one database.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "btf/compress/vq_btf.h"
+#include "btf/compress/vq_database.h"
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_quality.h"
@@ -20,59 +23,73 @@ namespace btf::cli {
 namespace {
 
 struct CompressArgs {
-  std::string in, out;
+  std::vector<std::string> in;
+  std::string out;
   VqOptions vq;
   bool verify = true;
   bool json = false;
+  bool compare_alone = false;
 };
 
 // ARCHITECTURE.md: ratio_u8 counts 3 bytes per RGB entry of the raw data, ratio_f32 12 bytes.
 double rawBytes(const BtfSource& s, double bytes_per_entry) { return double(s.entryCount()) * bytes_per_entry; }
 
+// The error of a compressed material against its input, decoded from the file just written so that
+// the figures are those of what a reader gets.
+void addErrors(const BtfSource& input, const VqBtf& reread, nlohmann::json& report) {
+  const BtfErrorStats e = compareBtf(input, reread);
+  report["rel_rmse"] = e.rel_rmse;
+  report["psnr_db"] = e.psnr_db;
+  const BtfSsimStats ssim = compareBtfSsim(input, reread);
+  report["rel_rmse_display"] = ssim.rel_rmse_display;
+  report["mean_ssim"] = ssim.mean_ssim;
+  report["min_image_ssim"] = ssim.min_image_ssim;
+  report["ssim_white"] = ssim.white;
+  const BtfNoiseFloor noise = estimateBtfNoiseFloor(input);
+  report["noise_rel_rmse"] = noise.rel_rmse;
+  report["rel_rmse_over_noise"] = noise.rel_rmse > 0 ? e.rel_rmse / noise.rel_rmse : 0.0;
+}
+
+std::vector<BtfInput> openInputs(const std::vector<std::string>& paths) {
+  std::vector<BtfInput> inputs;
+  for (const std::string& path : paths) {
+    inputs.push_back(openBtfInput(path));
+    if (inputs.back().kind == BtfInputKind::Compressed)
+      throw FileError(path, "is already compressed (.btfz); decompress it first, compress the original, or join "
+                            "compressed files with `btf merge`");
+  }
+  return inputs;
+}
+
 void runCompress(const CompressArgs& args) {
-  const BtfInput input = openBtfInput(args.in);
-  if (input.kind == BtfInputKind::Compressed)
-    throw FileError(args.in, "is already compressed (.btfz); decompress it first or compress the original");
+  const std::vector<BtfInput> inputs = openInputs(args.in);
+  const BtfSource& source = *inputs.front().source;
   const auto start = std::chrono::steady_clock::now();
-  const VqBtf compressed = compressVq(*input.source, args.vq);
+  const VqBtf compressed = compressVq(source, args.vq);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   compressed.write(args.out);
   const std::uint64_t bytes = std::filesystem::file_size(args.out);
 
-  nlohmann::json report{{"input", args.in},
-                        {"input_kind", input.description},
+  nlohmann::json report{{"input", args.in.front()},
+                        {"input_kind", inputs.front().description},
                         {"output", args.out},
-                        {"texels", {input.source->width(), input.source->height()}},
-                        {"views", input.source->views().views()},
+                        {"texels", {source.width(), source.height()}},
+                        {"views", source.views().views()},
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"levels", args.vq.levels},
                         {"codebook_entries", compressed.stats().codebook_entries},
                         {"bytes", bytes},
-                        {"ratio_u8", rawBytes(*input.source, 3) / double(bytes)},
-                        {"ratio_f32", rawBytes(*input.source, 12) / double(bytes)},
+                        {"ratio_u8", rawBytes(source, 3) / double(bytes)},
+                        {"ratio_f32", rawBytes(source, 12) / double(bytes)},
                         {"compression_s", seconds}};
-  if (args.verify) {
-    // Decode from the file just written, so the figures are those of what a reader gets.
-    const VqBtf reread = VqBtf::read(args.out);
-    const BtfErrorStats e = compareBtf(*input.source, reread);
-    report["rel_rmse"] = e.rel_rmse;
-    report["psnr_db"] = e.psnr_db;
-    const BtfSsimStats ssim = compareBtfSsim(*input.source, reread);
-    report["rel_rmse_display"] = ssim.rel_rmse_display;
-    report["mean_ssim"] = ssim.mean_ssim;
-    report["min_image_ssim"] = ssim.min_image_ssim;
-    report["ssim_white"] = ssim.white;
-    const BtfNoiseFloor noise = estimateBtfNoiseFloor(*input.source);
-    report["noise_rel_rmse"] = noise.rel_rmse;
-    report["rel_rmse_over_noise"] = noise.rel_rmse > 0 ? e.rel_rmse / noise.rel_rmse : 0.0;
-  }
+  if (args.verify) addErrors(source, VqBtf::read(args.out), report);
   if (args.json) {
     std::cout << report.dump(2) << '\n';
     return;
   }
-  std::printf("%s: %d x %d texels x %s x 81 lights (%s)\n", args.in.c_str(), input.source->width(),
-              input.source->height(), input.source->views().describe().c_str(), input.description.c_str());
+  std::printf("%s: %d x %d texels x %s x 81 lights (%s)\n", args.in.front().c_str(), source.width(), source.height(),
+              source.views().describe().c_str(), inputs.front().description.c_str());
   std::printf("wrote %s: %llu bytes, ratio_u8 %.1f, ratio_f32 %.1f, %.2f s\n", args.out.c_str(),
               static_cast<unsigned long long>(bytes), report["ratio_u8"].get<double>(), report["ratio_f32"].get<double>(),
               seconds);
@@ -90,18 +107,126 @@ void runCompress(const CompressArgs& args) {
   }
 }
 
-void runDecompress(const std::string& in, const std::string& out, const std::string& format_name) {
+// Several inputs: one database with shared codebooks (compress/vq_database.h). With
+// --compare-alone each material is also compressed on its own (same options), and the database is
+// set against the sum of those files.
+void runCompressDatabase(const CompressArgs& args) {
+  const std::vector<BtfInput> inputs = openInputs(args.in);
+  std::vector<const BtfSource*> sources;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    sources.push_back(inputs[i].source.get());
+    names.push_back(inputs[i].source->name());
+    for (std::size_t j = 0; j < i; ++j)
+      if (names[j] == names[i])
+        throw Error("inputs " + args.in[j] + " and " + args.in[i] + " are both named '" + names[i] +
+                    "': a database needs distinct material names (rename a folder or file; a fit is named NAME-MODEL)");
+  }
+  VqDatabase database = compressVqDatabase(sources, names, args.vq);
+  database.write(args.out);
+  const std::uint64_t bytes = std::filesystem::file_size(args.out);
+  nlohmann::json report{{"output", args.out},
+                        {"epsilon", args.vq.epsilon},
+                        {"chroma_epsilon", args.vq.chroma_epsilon},
+                        {"levels", args.vq.levels},
+                        {"shared_codebook_entries", database.sharedEntries()},
+                        {"bytes", bytes},
+                        {"ratio_u8", database.rawBytesU8() / double(bytes)},
+                        {"compression_s", database.seconds()}};
+  const VqDatabase reread = args.verify ? VqDatabase::read(args.out) : VqDatabase(database.materials());
+  std::uint64_t alone_total = 0;
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const VqBtf& m = reread.materials()[i];
+    nlohmann::json entry{{"name", names[i]},
+                         {"input", args.in[i]},
+                         {"input_kind", inputs[i].description},
+                         {"texels", {m.width(), m.height()}},
+                         {"views", m.views().views()},
+                         {"codebook_entries", m.stats().codebook_entries}};
+    if (args.verify) addErrors(*sources[i], m, entry);
+    if (args.compare_alone) {
+      const VqBtf alone = compressVq(*sources[i], args.vq);
+      entry["alone_bytes"] = alone.stats().compressed_bytes;
+      alone_total += alone.stats().compressed_bytes;
+    }
+    list.push_back(std::move(entry));
+  }
+  report["materials"] = std::move(list);
+  if (args.compare_alone) {
+    report["alone_bytes"] = alone_total;
+    report["saving"] = double(alone_total) / double(bytes);
+  }
+  if (args.json) {
+    std::cout << report.dump(2) << '\n';
+    return;
+  }
+  std::printf("wrote %s: a database of %zu materials, %llu bytes, ratio_u8 %.1f, %.2f s\n", args.out.c_str(),
+              inputs.size(), static_cast<unsigned long long>(bytes), report["ratio_u8"].get<double>(), database.seconds());
+  std::printf("shared codebook entries (level 1, level 2):");
+  for (std::size_t n : database.sharedEntries()) std::printf(" %zu", n);
+  std::printf("\n%-28s %-12s %10s", "material", "texels", "views");
+  if (args.verify) std::printf(" %9s %9s %9s", "rel_rmse", "psnr_db", "SSIM");
+  if (args.compare_alone) std::printf(" %12s", "alone bytes");
+  std::printf("\n");
+  for (const auto& e : report["materials"]) {
+    const std::string texels = std::to_string(e["texels"][0].get<int>()) + " x " + std::to_string(e["texels"][1].get<int>());
+    std::printf("%-28s %-12s %10zu", e["name"].get<std::string>().c_str(), texels.c_str(), e["views"].size());
+    if (args.verify)
+      std::printf(" %9.5f %9.2f %9.4f", e["rel_rmse"].get<double>(), e["psnr_db"].get<double>(), e["mean_ssim"].get<double>());
+    if (args.compare_alone) std::printf(" %12llu", static_cast<unsigned long long>(e["alone_bytes"].get<std::uint64_t>()));
+    std::printf("\n");
+  }
+  if (args.compare_alone)
+    std::printf("each compressed alone: %llu bytes in all; the shared codebooks save a factor %.2f\n",
+                static_cast<unsigned long long>(alone_total), report["saving"].get<double>());
+}
+
+void runDecompress(const std::string& in, const std::string& out, const std::string& format_name, const std::string& material) {
   BtfImageWriteOptions options;
   if (format_name == "exr") options.format = BtfImageFormat::Exr;
   else if (format_name == "png8" || format_name == "png") options.format = BtfImageFormat::Png8;
   else if (format_name == "png16") options.format = BtfImageFormat::Png16;
   else throw Error("unknown --format '" + format_name + "' (expected exr, png8 or png16)");
   if (std::filesystem::path(in).extension() != ".btfz") throw FileError(in, "is not a .btfz file");
-  const VqBtf compressed = VqBtf::read(in);
+  const VqBtf compressed = VqBtf::read(in, material);
   writeBtfImageFolder(compressed, out, options);
   std::printf("wrote %s: %d x %d texels, %s, %d %s images\n", out.c_str(), compressed.width(), compressed.height(),
               compressed.views().describe().c_str(), compressed.views().count() * kBtfDirectionCount,
               btfImageFormatName(options.format).c_str());
+}
+
+void runMerge(const std::vector<std::string>& in, const std::string& out) {
+  if (std::filesystem::path(out).extension() != ".btfz") throw FileError(out, "the output must end in .btfz");
+  std::vector<VqDatabase> parts;
+  std::uint64_t in_bytes = 0;
+  for (const std::string& path : in) {
+    if (std::filesystem::path(path).extension() != ".btfz") throw FileError(path, "is not a .btfz file");
+    parts.push_back(VqDatabase::read(path));
+    in_bytes += std::filesystem::file_size(path);
+    // The files, rather than their positions, in the message (mergeVqDatabases knows positions only).
+    const VqOptions& a = parts.front().options();
+    const VqOptions& b = parts.back().options();
+    if (a.levels != b.levels || a.epsilon != b.epsilon || a.chroma_epsilon != b.chroma_epsilon ||
+        a.energy_floor != b.energy_floor) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "cannot merge: %s was compressed with levels %d, epsilon %g, chroma_epsilon %g, energy_floor %g; "
+                    "%s with levels %d, epsilon %g, chroma_epsilon %g, energy_floor %g (recompress with the same options)",
+                    path.c_str(), b.levels, double(b.epsilon), double(b.chroma_epsilon), double(b.energy_floor),
+                    in.front().c_str(), a.levels, double(a.epsilon), double(a.chroma_epsilon), double(a.energy_floor));
+      throw Error(text);
+    }
+  }
+  VqDatabase merged = mergeVqDatabases(parts);
+  merged.write(out);
+  const std::uint64_t bytes = std::filesystem::file_size(out);
+  std::printf("wrote %s: %zu materials from %zu files, %llu bytes (the inputs: %llu, factor %.2f)\n", out.c_str(),
+              merged.size(), in.size(), static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(in_bytes),
+              double(in_bytes) / double(bytes));
+  std::printf("shared codebook entries (level 1, level 2):");
+  for (std::size_t n : merged.sharedEntries()) std::printf(" %zu", n);
+  std::printf("\n");
 }
 
 }  // namespace
@@ -110,10 +235,16 @@ void registerCompressCommands(CLI::App& app) {
   auto args = std::make_shared<CompressArgs>();
   auto* cmd = app.add_subcommand(
       "compress",
-      "Compress a BTF (image folder, or a BRDF .binary/.bsdf/.exr as a one-texel BTF) by multi-level vector "
-      "quantization into a .btfz file, then report rel_rmse and psnr_db of the file against the input");
-  cmd->add_option("IN", args->in, "Image folder, or a BRDF file")->required();
-  cmd->add_option("OUT", args->out, "Output .btfz, written atomically")->required();
+      "Compress a BTF (image folder, or a BRDF .binary/.bsdf/.exr or merl-fit:MODEL:NAME as a one-texel BTF) by "
+      "multi-level vector quantization into a .btfz file, then report the file's errors against the input. Several "
+      "inputs make one database whose level-1 and level-2 codebooks the materials share");
+  // One positional list, the last of which is the output (CLI11 gives a list positional every
+  // argument, so IN... OUT cannot be two options).
+  cmd->add_option("IN... OUT", args->in,
+                  "Image folders, BRDF files or merl-fit:MODEL:NAME (e.g. merl-fit:sgd:alum-bronze), then the output "
+                  ".btfz, written atomically")
+      ->required()
+      ->expected(2, -1);
   cmd->add_option("--epsilon", args->vq.epsilon, "Relative L2 tolerance per level (0: near-lossless)")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 1.0f));
@@ -128,10 +259,17 @@ void registerCompressCommands(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("!--no-verify", args->verify, "Skip decoding the file and comparing it with the input");
   cmd->add_flag("--json", args->json, "Print the report as JSON");
+  cmd->add_flag("--compare-alone", args->compare_alone,
+                "With several inputs: also compress each alone and report what the shared codebooks save");
   cmd->callback([args] {
+    args->out = args->in.back();
+    args->in.pop_back();
     if (std::filesystem::path(args->out).extension() != ".btfz")
       throw FileError(args->out, "the output must end in .btfz");
-    runCompress(*args);
+    if (args->in.size() == 1 && args->compare_alone)
+      throw Error("--compare-alone needs several inputs (it compares their database with each compressed alone)");
+    if (args->in.size() == 1) runCompress(*args);
+    else runCompressDatabase(*args);
   });
 
   auto in = std::make_shared<std::string>(), out = std::make_shared<std::string>();
@@ -140,7 +278,18 @@ void registerCompressCommands(CLI::App& app) {
   dec->add_option("IN", *in, "Input .btfz")->required();
   dec->add_option("OUT", *out, "Output folder, written atomically (a temporary folder renamed at the end)")->required();
   dec->add_option("--format", *format, "exr (float), png8 or png16 (scaled; btf.json holds the scale)")->capture_default_str();
-  dec->callback([in, out, format] { runDecompress(*in, *out, *format); });
+  auto material = std::make_shared<std::string>();
+  dec->add_option("--material", *material, "The material to decompress from a database (btf info lists them)");
+  dec->callback([in, out, format, material] { runDecompress(*in, *out, *format, *material); });
+
+  auto parts = std::make_shared<std::vector<std::string>>();
+  auto merged = std::make_shared<std::string>();
+  auto* merge = app.add_subcommand(
+      "merge", "Join .btfz files (single materials or databases, compressed with the same options, e.g. on different "
+               "machines) into one database; lossless: each distinct codebook entry is stored once");
+  merge->add_option("IN", *parts, "Input .btfz files")->required()->expected(1, -1)->check(CLI::ExistingFile);
+  merge->add_option("-o,--output", *merged, "Output .btfz database, written atomically")->required();
+  merge->callback([parts, merged] { runMerge(*parts, *merged); });
 }
 
 }  // namespace btf::cli

@@ -77,6 +77,10 @@ demo() {
   echo "== VQ against per-view PCA at equal storage (rate-distortion chart), and how far the data can be compressed at all"
   "$bin/btf" bench compression --patterns fabric --size 16 --epsilons 0.02,0.1,0.4 --levels 3 --no-brdfs -o "$out/bench-compression"
   "$bin/btf" bench compressibility --patterns fabric --size 16 -o "$out/compressibility"
+  echo "== the calibrated stand-in for measured BTFs: a printed paper through the measured camera (noise, jitter,"
+  echo "   8-bit sRGB), compressed and judged against its own noise floor"
+  "$bin/btf-datagen" btf --pattern print --camera --size 16 --seed 1 -o "$out/print-btf"
+  "$bin/btf" compress "$out/print-btf" "$out/print.btfz" --epsilon 0.2 --chroma-epsilon 0.05
   if [ -d "$real" ]; then
     echo "== a real measured material (RGL database): facts, MERL-layout conversion, previews"
     "$bin/btf" info "$real/rgl_bsdf/vch_golden_yellow_rgb.bsdf"
@@ -88,6 +92,15 @@ demo() {
     "$bin/btf" info "$real/btf/ubo2003_wallpaper_view000"
     "$bin/btf" compress "$real/btf/ubo2003_wallpaper_view000" "$out/wallpaper-view000.btfz" --epsilon 0.2 --levels 2 \
       --chroma-epsilon 0.2
+    echo "== a material database: the RGL materials and MERL fits as one-texel BTFs, sharing codebooks, against"
+    echo "   each compressed alone; then two files compressed apart, joined losslessly by btf merge"
+    "$bin/btf" compress "$real"/rgl_bsdf/*.bsdf merl-fit:sgd:alum-bronze merl-fit:sgd:blue-acrylic \
+      merl-fit:sgd:red-plastic merl-fit:sgd:white-paint merl-fit:abc:chrome "$out/brdf-database.btfz" \
+      --epsilon 0.05 --compare-alone
+    "$bin/btf" info "$out/brdf-database.btfz"
+    "$bin/btf" compress "$real/rgl_bsdf/paper_white_rgb.bsdf" "$out/paper-white.btfz" --epsilon 0.05 --no-verify
+    "$bin/btf" compress merl-fit:sgd:alum-bronze "$out/alum-bronze.btfz" --epsilon 0.05 --no-verify
+    "$bin/btf" merge "$out/paper-white.btfz" "$out/alum-bronze.btfz" -o "$out/merged.btfz"
     echo "== a MERL material from its published ABC fit, compared with its other fits"
     "$bin/btf-datagen" --merl-fit gold-metallic-paint --model abc --seed 1 -o "$out/gold-metallic-paint.binary"
     "$bin/btf" info "$out/gold-metallic-paint.binary"

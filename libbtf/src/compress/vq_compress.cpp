@@ -50,9 +50,11 @@
 #include <optional>
 
 #include "btf/compress/codebook.h"
+#include "btf/compress/vq_database.h"
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
 #include "vq_impl.h"
+#include "vq_sections.h"
 
 namespace btf {
 
@@ -140,26 +142,27 @@ double rmsOf(std::size_t n, F&& norm_of) {
   return n ? std::sqrt(s / double(n)) : 0.0;
 }
 
+// Compresses materials one after another into shared level-1, chromaticity and level-2 codebooks
+// (`books`), each material's level-3 codebook and top stream into its own Impl. One material alone
+// is a plain VqBtf (books and material are then the same Impl: they write disjoint fields).
 class Compressor {
  public:
-  Compressor(const BtfSource& source, const VqOptions& options, VqBtf::Impl& out)
-      : source_(source), options_(options), out_(out), texels_(source.texelCount()),
-        views_(std::size_t(source.views().count())) {
+  Compressor(const VqOptions& options, VqBtf::Impl& books) : options_(options), books_(books) {
     for (int r = 0; r < kBtfRingCount; ++r) l1_.emplace_back(btfRingSize(r));
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
-    // uniform light slice (level 2) and the uniform texel (level 3).
+    // uniform light slice (level 2) and, per material, the uniform texel (level 3).
     for (int r = 0; r < kBtfRingCount; ++r) {
       const float c = 1.0f / std::sqrt(float(btfRingSize(r)));
       std::vector<float> entry(std::size_t(btfRingSize(r)), decodeVqEntryValue(encodeVqEntryValue(c)));
       l1_[std::size_t(r)].add(entry);
-      out_.l1[std::size_t(r)].assign(std::size_t(btfRingSize(r)), encodeVqEntryValue(c));
+      books_.l1[std::size_t(r)].assign(std::size_t(btfRingSize(r)), encodeVqEntryValue(c));
     }
     const float step = vqChromaStep(options.chroma_epsilon);
     const std::int32_t grey = std::int32_t(std::lround(1.0 / double(step)));
     for (int r = 0; r < kBtfRingCount; ++r) {
       const std::size_t n2 = 2 * std::size_t(btfRingSize(r));
       chroma_books_.emplace_back(int(n2));
-      out_.chroma[std::size_t(r)].assign(n2, grey);
+      books_.chroma[std::size_t(r)].assign(n2, grey);
       chroma_books_.back().add(std::vector<float>(n2, float(grey) * step));
     }
     if (options.levels >= 2) {
@@ -169,42 +172,48 @@ class Compressor {
       l2_.emplace(kBtfDirectionCount);
       addLevel2Entry(e1.data(), sc.data(), ch.data());
     }
-    if (options.levels == 3) {
+  }
+
+  // Adds one material: its vectors reuse (and extend) the codebooks of the materials before it.
+  void run(const BtfSource& source, VqBtf::Impl& out) {
+    source_ = &source;
+    out_ = &out;
+    texels_ = source.texelCount();
+    views_ = std::size_t(source.views().count());
+    if (options_.levels == 3) {
       l3_.emplace(int(views_));
+      l3_norm2_.clear();
       std::vector<std::uint32_t> e(views_, 0);
       std::vector<std::uint16_t> sc(views_, encodeVqScale(1.0f / std::sqrt(float(views_))));
       addLevel3Entry(e.data(), sc.data());
     }
-  }
-
-  void run() {
     const std::size_t T = texels_, V = views_;
     if (options_.levels == 1) {
-      out_.top_index.resize(T * V * kBtfRingCount);
-      out_.top_scale.resize(out_.top_index.size());
-      out_.top_chroma.resize(out_.top_index.size());
+      out_->top_index.resize(T * V * kBtfRingCount);
+      out_->top_scale.resize(out_->top_index.size());
+      out_->top_chroma.resize(out_->top_index.size());
     } else if (options_.levels == 2) {
-      out_.top_index.resize(T * V);
-      out_.top_scale.resize(T * V);
+      out_->top_index.resize(T * V);
+      out_->top_scale.resize(T * V);
     } else {
       view_index_.resize(T * V);
       view_scale_.resize(T * V);
       view_chroma_.resize(T * V * kBtfRingCount);
     }
-    Progress progress("vq compress " + source_.name(), int(V) + (options_.levels == 3 ? 1 : 0));
+    Progress progress("vq compress " + source_->name(), int(V) + (options_.levels == 3 ? 1 : 0));
     // The next view loads (a synthetic source renders it) while this one is compressed; one
     // loadView at a time, so sources need not be thread-safe beyond running on a worker thread.
     // Per-view streams are indexed by the view's slot in the source's view set.
-    const BtfViewSet& views = source_.views();
+    const BtfViewSet& views = source_->views();
     std::vector<Rgb> buffer, next;
-    source_.loadView(views.view(0), buffer);
+    source_->loadView(views.view(0), buffer);
     tbb::task_group loader;
     for (int slot = 0; slot < int(V); ++slot) {
       const int v = views.view(slot);
       if (buffer.size() != T * kBtfDirectionCount)
-        throw Error(source_.name() + ": view " + std::to_string(v) + " has the wrong number of values");
+        throw Error(source_->name() + ": view " + std::to_string(v) + " has the wrong number of values");
       checkValues(buffer, v);
-      if (slot + 1 < int(V)) loader.run([this, &views, slot, &next] { source_.loadView(views.view(slot + 1), next); });
+      if (slot + 1 < int(V)) loader.run([this, &views, slot, &next] { source_->loadView(views.view(slot + 1), next); });
       level1(buffer, slot);
       if (options_.levels >= 2) level2(slot);
       loader.wait();
@@ -230,8 +239,8 @@ class Compressor {
     }
     if (first_bad == buffer.size()) return;
     const std::size_t light = first_bad / texels_, t = first_bad % texels_;
-    throw Error(source_.name() + ": view " + std::to_string(v) + ", light " + std::to_string(light) + ", texel (" +
-                std::to_string(t % std::size_t(source_.width())) + ", " + std::to_string(t / std::size_t(source_.width())) +
+    throw Error(source_->name() + ": view " + std::to_string(v) + ", light " + std::to_string(light) + ", texel (" +
+                std::to_string(t % std::size_t(source_->width())) + ", " + std::to_string(t / std::size_t(source_->width())) +
                 ") holds a negative, infinite or NaN value");
   }
   // Luminance-weighted squared chroma error of ring r's chroma entry `entry` against texel t's own
@@ -288,7 +297,7 @@ class Compressor {
           const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
           for (std::size_t i = 0; i < n2; ++i) {
             const std::int32_t q = std::int32_t(std::lround(double(c[i]) / step));
-            out_.chroma[std::size_t(r)].push_back(q);
+            books_.chroma[std::size_t(r)].push_back(q);
             entry[i] = float(q) * step;
           }
           return book.add(entry);
@@ -365,9 +374,9 @@ class Compressor {
         for (int r = 0; r < kBtfRingCount; ++r) {
           const std::size_t k = t * kBtfRingCount + std::size_t(r);
           const std::size_t o = t * views_ * kBtfRingCount + base + std::size_t(r);
-          out_.top_index[o] = entries_[k];
-          out_.top_scale[o] = scales_[k];
-          out_.top_chroma[o] = chroma_[k];
+          out_->top_index[o] = entries_[k];
+          out_->top_scale[o] = scales_[k];
+          out_->top_chroma[o] = chroma_[k];
         }
       });
     }
@@ -393,7 +402,7 @@ class Compressor {
           const auto u = unit(t);
           for (int a = 0; a < n; ++a) {
             const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)]);
-            out_.l1[std::size_t(r)].push_back(q);
+            books_.l1[std::size_t(r)].push_back(q);
             entry[std::size_t(a)] = decodeVqEntryValue(q);
           }
           return book.add(entry);
@@ -422,9 +431,9 @@ class Compressor {
   std::uint32_t addLevel2Entry(const std::uint32_t* e1, const std::uint16_t* sc, const std::uint32_t* ch) {
     float recon[kBtfDirectionCount];
     reconstructSlice(e1, sc, recon);
-    out_.l2_index.insert(out_.l2_index.end(), e1, e1 + kBtfRingCount);
-    out_.l2_scale.insert(out_.l2_scale.end(), sc, sc + kBtfRingCount);
-    out_.l2_chroma.insert(out_.l2_chroma.end(), ch, ch + kBtfRingCount);
+    books_.l2_index.insert(books_.l2_index.end(), e1, e1 + kBtfRingCount);
+    books_.l2_scale.insert(books_.l2_scale.end(), sc, sc + kBtfRingCount);
+    books_.l2_chroma.insert(books_.l2_chroma.end(), ch, ch + kBtfRingCount);
     l2_norm2_.push_back(float(dot(recon, recon, kBtfDirectionCount)));
     return l2_->add(recon);
   }
@@ -432,7 +441,7 @@ class Compressor {
     for (int r = 0; r < kBtfRingCount; ++r) {
       const std::size_t k = t * kBtfRingCount + std::size_t(r);
       if (!(norms_[k] > 0)) continue;
-      const std::uint32_t c = out_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)];
+      const std::uint32_t c = books_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)];
       if (c != chroma_[k] && !chromaPasses(c, t, r)) return false;
     }
     return true;
@@ -475,8 +484,8 @@ class Compressor {
       }
       const std::size_t k = t * views_ + std::size_t(slot);
       if (options_.levels == 2) {
-        out_.top_index[k] = e;
-        out_.top_scale[k] = code;
+        out_->top_index[k] = e;
+        out_->top_scale[k] = code;
       } else {
         view_index_[k] = e;
         view_scale_[k] = code;
@@ -495,8 +504,8 @@ class Compressor {
       key[v] = decodeVqScale(sc[v]);
       y2 += double(key[v]) * key[v] * l2_norm2_[e2[v]];
     }
-    out_.l3_index.insert(out_.l3_index.end(), e2, e2 + views_);
-    out_.l3_scale.insert(out_.l3_scale.end(), sc, sc + views_);
+    out_->l3_index.insert(out_->l3_index.end(), e2, e2 + views_);
+    out_->l3_scale.insert(out_->l3_scale.end(), sc, sc + views_);
     l3_norm2_.push_back(float(y2));
     return l3_->add(std::span<const float>(key, views_));
   }
@@ -508,12 +517,12 @@ class Compressor {
     for (std::size_t v = 0; v < views_; ++v) {
       const std::size_t k = t * views_ + v;
       const float s = decodeVqScale(view_scale_[k]);
-      const std::uint32_t a = view_index_[k], b = out_.l3_index[std::size_t(entry) * views_ + v];
+      const std::uint32_t a = view_index_[k], b = out_->l3_index[std::size_t(entry) * views_ + v];
       if (s > 0)
         for (int r = 0; r < kBtfRingCount; ++r) {
           const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
-          const std::uint32_t c = out_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
-          if (own != kNoChroma && c != own && c != out_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
+          const std::uint32_t c = books_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
+          if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
             return std::nullopt;
         }
       if (s == 0 || q[v] == 0) continue;
@@ -534,8 +543,8 @@ class Compressor {
 
   void level3() {
     const std::size_t T = texels_;
-    out_.top_index.assign(T, 0);
-    out_.top_scale.assign(T, 0);
+    out_->top_index.assign(T, 0);
+    out_->top_scale.assign(T, 0);
     texel_norm2_.resize(T);
     const std::size_t V = views_;
     std::vector<float> keys(T * V);
@@ -568,19 +577,20 @@ class Compressor {
         });
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);
-      out_.top_index[t] = e;
+      out_->top_index[t] = e;
       if (!(texel_norm2_[t] > 0)) return;
       const auto xy = level3Dot(t, e);
       const double y2 = l3_norm2_[e];
-      out_.top_scale[t] = xy && y2 > 0 ? encodeVqScale(float(*xy / y2)) : 0;
+      out_->top_scale[t] = xy && y2 > 0 ? encodeVqScale(float(*xy / y2)) : 0;
     });
   }
 
-  const BtfSource& source_;
   const VqOptions& options_;
-  VqBtf::Impl& out_;
-  std::size_t texels_;
-  std::size_t views_;  // held by the source; per-view streams are indexed by slot (btf_view_set.h)
+  VqBtf::Impl& books_;              // shared codebooks: level 1, chromaticity, level 2
+  const BtfSource* source_ = nullptr;  // the material being compressed
+  VqBtf::Impl* out_ = nullptr;         // its level-3 codebook and top stream
+  std::size_t texels_ = 0;
+  std::size_t views_ = 0;  // held by the source; per-view streams are indexed by slot (btf_view_set.h)
   std::vector<Codebook> l1_;
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;
@@ -599,7 +609,9 @@ class Compressor {
 
 }  // namespace
 
-VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
+namespace {
+
+void checkVqOptions(const VqOptions& options) {
   if (!(options.epsilon >= 0.0f) || !(options.epsilon < 1.0f))
     throw Error("VQ tolerance epsilon = " + std::to_string(options.epsilon) + " is invalid: must be in [0, 1)");
   if (!(options.chroma_epsilon >= kVqMinChromaEpsilon) || !(options.chroma_epsilon <= 1.0f))
@@ -610,34 +622,76 @@ VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   if (!(options.energy_floor >= 0.0f) || !std::isfinite(options.energy_floor))
     throw Error("VQ energy_floor = " + std::to_string(options.energy_floor) + " is invalid: must be finite and >= 0");
   if (options.threads < 0) throw Error("VQ threads = " + std::to_string(options.threads) + " is invalid: must be >= 0");
-  const auto start = std::chrono::steady_clock::now();
-  auto impl = std::make_shared<VqBtf::Impl>();
-  impl->width = source.width();
-  impl->height = source.height();
-  impl->name = source.name() + " (vq)";
-  impl->views = source.views();
-  impl->options = options;
-  auto work = [&] { Compressor(source, options, *impl).run(); };
-  if (options.threads > 0) {
-    tbb::task_arena arena(options.threads);
+}
+
+template <class F>
+void inArena(int threads, F&& work) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
     arena.execute(work);
   } else {
     work();
   }
+}
+
+std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptions& options, std::string name) {
+  auto impl = std::make_shared<VqBtf::Impl>();
+  impl->width = source.width();
+  impl->height = source.height();
+  impl->name = std::move(name);
+  impl->views = source.views();
+  impl->options = options;
+  return impl;
+}
+
+}  // namespace
+
+VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
+  checkVqOptions(options);
+  const auto start = std::chrono::steady_clock::now();
+  auto impl = materialImpl(source, options, source.name() + " (vq)");
+  inArena(options.threads, [&] { Compressor(options, *impl).run(source, *impl); });
   impl->prepare("compressVq");
   VqStats& stats = impl->stats;
-  stats.codebook_entries.clear();
-  std::size_t l1 = 0;
-  for (int r = 1; r < kBtfRingCount; ++r) l1 += impl->l1Count(r);
-  stats.codebook_entries.push_back(l1);
-  if (options.levels >= 2) stats.codebook_entries.push_back(impl->l2Count());
-  if (options.levels >= 3) stats.codebook_entries.push_back(impl->l3Count());
+  stats.codebook_entries = vqCodebookEntries(*impl);
   stats.compressed_bytes = vqCompressedBytes(*impl);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double raw = double(source.entryCount()) * 3.0;
   stats.ratio_u8 = raw / double(stats.compressed_bytes);
   stats.ratio_f32 = 4.0 * stats.ratio_u8;
   return VqBtf(impl);
+}
+
+VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
+                              const VqOptions& options) {
+  checkVqOptions(options);
+  if (sources.empty()) throw Error("a VQ database needs at least one material");
+  if (names.size() != sources.size())
+    throw Error("a VQ database needs one name per material (" + std::to_string(sources.size()) + " materials, " +
+                std::to_string(names.size()) + " names)");
+  const auto start = std::chrono::steady_clock::now();
+  VqBtf::Impl books;
+  books.options = options;
+  std::vector<std::shared_ptr<VqBtf::Impl>> impls;
+  for (std::size_t i = 0; i < sources.size(); ++i) impls.push_back(materialImpl(*sources[i], options, names[i]));
+  inArena(options.threads, [&] {
+    Compressor compressor(options, books);
+    for (std::size_t i = 0; i < sources.size(); ++i) compressor.run(*sources[i], *impls[i]);
+  });
+  std::vector<VqBtf> materials;
+  for (auto& impl : impls) {
+    impl->l1 = books.l1;
+    impl->chroma = books.chroma;
+    impl->l2_index = books.l2_index;
+    impl->l2_scale = books.l2_scale;
+    impl->l2_chroma = books.l2_chroma;
+    impl->prepare("compressVqDatabase");
+    impl->stats.codebook_entries = vqCodebookEntries(*impl);
+    materials.emplace_back(impl);
+  }
+  VqDatabase database(std::move(materials));
+  database.setSeconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return database;
 }
 
 }  // namespace btf

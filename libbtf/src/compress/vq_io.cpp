@@ -14,6 +14,7 @@
 #include "btf/core/error.h"
 #include "btf/io/container.h"
 #include "vq_impl.h"
+#include "vq_sections.h"
 
 namespace btf {
 
@@ -54,7 +55,7 @@ std::vector<T> unpackPlanar(const ContainerSection& s, const std::filesystem::pa
 }
 
 std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
-  nlohmann::json header;
+  nlohmann::json header = vqOptionsHeader(m);
   header["format"] = "libbtf-vq";
   header["format_version"] = kFormatVersion;
   header["width"] = m.width;
@@ -62,70 +63,153 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   header["name"] = m.name;
   // The views held, only when some are missing (absent = all 81: files of complete BTFs are as before).
   if (!m.views.complete()) header["views"] = m.views.views();
+  header["codebook_entries"] = m.stats.codebook_entries;
+  std::vector<ContainerSection> sections;
+  addVqHeaderSection(header, sections);
+  addVqSharedSections(m, sections);
+  addVqMaterialSections(m, "", sections);
+  return sections;
+}
+
+}  // namespace
+
+void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std::string name, std::vector<std::byte> data) {
+  ContainerSection s;
+  s.type = type;
+  s.name = std::move(name);
+  s.data = std::move(data);
+  s.compress = true;
+  sections.push_back(std::move(s));
+}
+
+void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections) {
+  const std::string text = header.dump();
+  std::vector<std::byte> bytes(text.size());
+  std::memcpy(bytes.data(), text.data(), text.size());
+  addVqSection(sections, SectionType::Header, "header", std::move(bytes));
+}
+
+nlohmann::json vqOptionsHeader(const VqBtf::Impl& m) {
+  nlohmann::json header;
   header["levels"] = m.options.levels;
   header["epsilon"] = m.options.epsilon;
   header["chroma_epsilon"] = m.options.chroma_epsilon;
   header["energy_floor"] = m.options.energy_floor;
-  header["codebook_entries"] = m.stats.codebook_entries;
   std::vector<std::size_t> chroma_entries;
   for (int r = 0; r < kBtfRingCount; ++r) chroma_entries.push_back(m.chromaCount(r));
   header["chroma_entries"] = chroma_entries;  // per ring, informative (the sections are authoritative)
   header["chroma_step"] = vqChromaStep(m.options.chroma_epsilon);
-  std::vector<ContainerSection> sections;
-  auto add = [&](SectionType type, std::string name, std::vector<std::byte> data) {
-    ContainerSection s;
-    s.type = type;
-    s.name = std::move(name);
-    s.data = std::move(data);
-    s.compress = true;
-    sections.push_back(std::move(s));
-  };
-  const std::string text = header.dump();
-  std::vector<std::byte> bytes(text.size());
-  std::memcpy(bytes.data(), text.data(), text.size());
-  add(SectionType::Header, "header", std::move(bytes));
+  return header;
+}
+
+void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections) {
   for (int r = 0; r < kBtfRingCount; ++r)
-    add(SectionType::Codebook, "level1/ring" + std::to_string(r), packPlanar(m.l1[std::size_t(r)]));
+    addVqSection(sections, SectionType::Codebook, "level1/ring" + std::to_string(r), packPlanar(m.l1[std::size_t(r)]));
   for (int r = 0; r < kBtfRingCount; ++r)
-    add(SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
+    addVqSection(sections, SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
   if (m.options.levels >= 2) {
-    add(SectionType::Codebook, "level2/index", packPlanar(m.l2_index));
-    add(SectionType::Codebook, "level2/scale", packPlanar(m.l2_scale));
-    add(SectionType::Codebook, "level2/chroma", packPlanar(m.l2_chroma));
+    addVqSection(sections, SectionType::Codebook, "level2/index", packPlanar(m.l2_index));
+    addVqSection(sections, SectionType::Codebook, "level2/scale", packPlanar(m.l2_scale));
+    addVqSection(sections, SectionType::Codebook, "level2/chroma", packPlanar(m.l2_chroma));
   }
+}
+
+void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections) {
   if (m.options.levels == 3) {
-    add(SectionType::Codebook, "level3/index", packPlanar(m.l3_index));
-    add(SectionType::Codebook, "level3/scale", packPlanar(m.l3_scale));
+    addVqSection(sections, SectionType::Codebook, prefix + "level3/index", packPlanar(m.l3_index));
+    addVqSection(sections, SectionType::Codebook, prefix + "level3/scale", packPlanar(m.l3_scale));
   }
-  add(SectionType::IndexStream, "top/index", packPlanar(m.top_index));
-  add(SectionType::Scales, "top/scale", packPlanar(m.top_scale));
-  if (m.options.levels == 1) add(SectionType::IndexStream, "top/chroma", packPlanar(m.top_chroma));
-  return sections;
+  addVqSection(sections, SectionType::IndexStream, prefix + "top/index", packPlanar(m.top_index));
+  addVqSection(sections, SectionType::Scales, prefix + "top/scale", packPlanar(m.top_scale));
+  if (m.options.levels == 1) addVqSection(sections, SectionType::IndexStream, prefix + "top/chroma", packPlanar(m.top_chroma));
 }
 
 // zstd's strongest levels cost seconds per MB, paid twice (compressVq's size, then write()): level
 // 19 only for small payloads (BRDFs, small or well-compressed BTFs), else level 9, which was ~13x
 // faster and 6 % larger on a 32 x 32 synthetic BTF (10 MB stored; level 6: 7 %, level 3: 10 %).
 // One level for all larger payloads also keeps ratios comparable across sizes.
-int zstdLevelFor(const std::vector<ContainerSection>& sections) {
+int vqZstdLevelFor(const std::vector<ContainerSection>& sections) {
   std::size_t raw = 0;
   for (const auto& s : sections) raw += s.data.size();
   return raw <= (std::size_t(4) << 20) ? 19 : 9;
 }
 
-const ContainerSection& section(const std::vector<ContainerSection>& sections, const std::string& name,
-                                const std::filesystem::path& path) {
+const ContainerSection& vqSection(const std::vector<ContainerSection>& sections, const std::string& name,
+                                  const std::filesystem::path& path) {
   for (const auto& s : sections)
     if (s.name == name) return s;
   throw FileError(path, "section " + name + " is missing");
 }
 
-}  // namespace
+nlohmann::json parseVqHeader(const std::vector<ContainerSection>& sections, const std::filesystem::path& path) {
+  const auto& h = vqSection(sections, "header", path);
+  try {
+    return nlohmann::json::parse(std::string(reinterpret_cast<const char*>(h.data.data()), h.data.size()));
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("VQ header is invalid: ") + e.what());
+  }
+}
+
+void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options) {
+  try {
+    options.levels = header.at("levels").get<int>();
+    options.epsilon = header.at("epsilon").get<float>();
+    options.chroma_epsilon = header.at("chroma_epsilon").get<float>();
+    options.energy_floor = header.at("energy_floor").get<float>();
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("VQ header is invalid: ") + e.what());
+  }
+  if (options.levels < 1 || options.levels > 3) throw FileError(path, "VQ header has an invalid level count");
+  if (!(options.chroma_epsilon >= kVqMinChromaEpsilon) || !(options.chroma_epsilon <= 1.0f))
+    throw FileError(path, "VQ header has an invalid chroma_epsilon");
+}
+
+void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m) {
+  for (int r = 0; r < kBtfRingCount; ++r)
+    m.l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(vqSection(sections, "level1/ring" + std::to_string(r), path), path);
+  for (int r = 0; r < kBtfRingCount; ++r)
+    m.chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(vqSection(sections, "chroma/ring" + std::to_string(r), path), path);
+  if (m.options.levels >= 2) {
+    m.l2_index = unpackPlanar<std::uint32_t>(vqSection(sections, "level2/index", path), path);
+    m.l2_scale = unpackPlanar<std::uint16_t>(vqSection(sections, "level2/scale", path), path);
+    m.l2_chroma = unpackPlanar<std::uint32_t>(vqSection(sections, "level2/chroma", path), path);
+  }
+}
+
+void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
+                            const std::filesystem::path& path, VqBtf::Impl& m) {
+  if (m.options.levels == 3) {
+    m.l3_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "level3/index", path), path);
+    m.l3_scale = unpackPlanar<std::uint16_t>(vqSection(sections, prefix + "level3/scale", path), path);
+  }
+  m.top_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/index", path), path);
+  m.top_scale = unpackPlanar<std::uint16_t>(vqSection(sections, prefix + "top/scale", path), path);
+  if (m.options.levels == 1) m.top_chroma = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/chroma", path), path);
+}
+
+void prepareReadVq(VqBtf::Impl& m, const std::filesystem::path& path) {
+  try {
+    m.prepare("VQ data");
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(path, e.what());
+  }
+}
+
+std::vector<std::size_t> vqCodebookEntries(const VqBtf::Impl& m) {
+  std::vector<std::size_t> entries;
+  std::size_t l1 = 0;
+  for (int r = 1; r < kBtfRingCount; ++r) l1 += m.l1Count(r);
+  entries.push_back(l1);
+  if (m.options.levels >= 2) entries.push_back(m.l2Count());
+  if (m.options.levels >= 3) entries.push_back(m.l3Count());
+  return entries;
+}
 
 // Bytes the .btfz file will hold: the sections as the container compresses them plus its table.
-std::uint64_t vqCompressedBytes(const VqBtf::Impl& impl) {
-  const auto sections = buildSections(impl);
-  const int level = zstdLevelFor(sections);
+std::uint64_t vqSectionsBytes(const std::vector<ContainerSection>& sections) {
+  const int level = vqZstdLevelFor(sections);
   std::vector<std::uint64_t> sizes(sections.size());
   tbb::parallel_for(std::size_t(0), sections.size(), [&](std::size_t i) {
     const auto& data = sections[i].data;
@@ -133,28 +217,34 @@ std::uint64_t vqCompressedBytes(const VqBtf::Impl& impl) {
     const std::size_t n = ZSTD_compress(buffer.data(), buffer.size(), data.data(), data.size(), level);
     sizes[i] = ZSTD_isError(n) ? data.size() : std::min<std::uint64_t>(n, data.size());
   });
-  std::uint64_t total = 8 + 4 + 4 + 8;  // magic, version, count, table checksum
-  for (std::size_t i = 0; i < sections.size(); ++i) total += sizes[i] + 38 + sections[i].name.size();
+  std::uint64_t total = containerTableBytes(sections);
+  for (std::uint64_t n : sizes) total += n;
   return total;
 }
+std::uint64_t vqCompressedBytes(const VqBtf::Impl& impl) { return vqSectionsBytes(buildSections(impl)); }
 
 void VqBtf::write(const std::filesystem::path& path) const {
   auto sections = buildSections(*impl_);
-  const std::uint64_t bytes = writeContainer(path, sections, zstdLevelFor(sections));
+  const std::uint64_t bytes = writeContainer(path, sections, vqZstdLevelFor(sections));
   impl_->stats.compressed_bytes = bytes;
   const double raw = double(entryCount()) * 3.0;
   impl_->stats.ratio_u8 = raw / double(bytes);
   impl_->stats.ratio_f32 = 4.0 * impl_->stats.ratio_u8;
 }
 
-VqBtf VqBtf::read(const std::filesystem::path& path) {
+std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path& path, std::string_view only) {
   const auto sections = readContainer(path);
-  auto m = std::make_shared<Impl>();
-  const auto& h = section(sections, "header", path);
-  nlohmann::json header;
+  const nlohmann::json header = parseVqHeader(sections, path);
+  std::string format;
   try {
-    header = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(h.data.data()), h.data.size()));
-    if (header.at("format").get<std::string>() != "libbtf-vq") throw FileError(path, "holds no VQ-compressed BTF");
+    format = header.at("format").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("VQ header is invalid: ") + e.what());
+  }
+  if (format == kVqDatabaseFormat) return readVqDatabaseSections(sections, header, path, only);
+  if (format != "libbtf-vq") throw FileError(path, "holds no VQ-compressed BTF");
+  auto m = std::make_shared<VqBtf::Impl>();
+  try {
     const int version = header.at("format_version").get<int>();
     if (version != kFormatVersion)
       throw FileError(path, "VQ format version " + std::to_string(version) + " is not supported (this build reads " +
@@ -162,10 +252,6 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
     m->width = header.at("width").get<int>();
     m->height = header.at("height").get<int>();
     m->name = header.at("name").get<std::string>();
-    m->options.levels = header.at("levels").get<int>();
-    m->options.epsilon = header.at("epsilon").get<float>();
-    m->options.chroma_epsilon = header.at("chroma_epsilon").get<float>();
-    m->options.energy_floor = header.at("energy_floor").get<float>();
     m->stats.codebook_entries = header.at("codebook_entries").get<std::vector<std::size_t>>();
     if (header.contains("views")) m->views = BtfViewSet(header.at("views").get<std::vector<int>>());
   } catch (const nlohmann::json::exception& e) {
@@ -175,50 +261,39 @@ VqBtf VqBtf::read(const std::filesystem::path& path) {
   } catch (const Error& e) {
     throw FileError(path, std::string("VQ header's views are invalid: ") + e.what());
   }
+  readVqOptions(header, path, m->options);
   if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
     throw FileError(path, "VQ header has an invalid texel size");
-  if (m->options.levels < 1 || m->options.levels > 3) throw FileError(path, "VQ header has an invalid level count");
-  if (!(m->options.chroma_epsilon >= kVqMinChromaEpsilon) || !(m->options.chroma_epsilon <= 1.0f))
-    throw FileError(path, "VQ header has an invalid chroma_epsilon");
-  for (int r = 0; r < kBtfRingCount; ++r)
-    m->l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(section(sections, "level1/ring" + std::to_string(r), path), path);
-  for (int r = 0; r < kBtfRingCount; ++r)
-    m->chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(section(sections, "chroma/ring" + std::to_string(r), path), path);
-  if (m->options.levels >= 2) {
-    m->l2_index = unpackPlanar<std::uint32_t>(section(sections, "level2/index", path), path);
-    m->l2_scale = unpackPlanar<std::uint16_t>(section(sections, "level2/scale", path), path);
-    m->l2_chroma = unpackPlanar<std::uint32_t>(section(sections, "level2/chroma", path), path);
-  }
-  if (m->options.levels == 3) {
-    m->l3_index = unpackPlanar<std::uint32_t>(section(sections, "level3/index", path), path);
-    m->l3_scale = unpackPlanar<std::uint16_t>(section(sections, "level3/scale", path), path);
-  }
-  m->top_index = unpackPlanar<std::uint32_t>(section(sections, "top/index", path), path);
-  m->top_scale = unpackPlanar<std::uint16_t>(section(sections, "top/scale", path), path);
-  if (m->options.levels == 1) m->top_chroma = unpackPlanar<std::uint32_t>(section(sections, "top/chroma", path), path);
-  try {
-    m->prepare("VQ data");
-  } catch (const FileError&) {
-    throw;
-  } catch (const Error& e) {
-    throw FileError(path, e.what());
-  }
+  readVqSharedSections(sections, path, *m);
+  readVqMaterialSections(sections, "", path, *m);
+  prepareReadVq(*m, path);
   // The header's codebook sizes must be those of the sections: a header whose view list was edited
   // (checksums recomputed) would otherwise split the level-3 entries at the wrong length and decode
   // wrong values without an error.
-  std::vector<std::size_t> entries;
-  std::size_t l1 = 0;
-  for (int r = 1; r < kBtfRingCount; ++r) l1 += m->l1Count(r);
-  entries.push_back(l1);
-  if (m->options.levels >= 2) entries.push_back(m->l2Count());
-  if (m->options.levels >= 3) entries.push_back(m->l3Count());
-  if (entries != m->stats.codebook_entries)
+  if (vqCodebookEntries(*m) != m->stats.codebook_entries)
     throw FileError(path, "VQ header's codebook entry counts disagree with its codebook sections (an edited header?)");
   m->stats.compressed_bytes = std::filesystem::file_size(path);
   const double raw = double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
   m->stats.ratio_u8 = raw / double(m->stats.compressed_bytes);
   m->stats.ratio_f32 = 4.0 * m->stats.ratio_u8;
-  return VqBtf(m);
+  return {m};
+}
+
+VqBtf VqBtf::read(const std::filesystem::path& path, std::string_view material) {
+  const auto materials = readVqFile(path, material);
+  // A single-material file's name carries the compressor's " (vq)": it answers to its bare name too.
+  auto answersTo = [&](const std::string& name) {
+    return name == material || (materials.size() == 1 && name.ends_with(" (vq)") && name.substr(0, name.size() - 5) == material);
+  };
+  std::string names;
+  for (const auto& m : materials) {
+    if (material.empty() ? materials.size() == 1 : answersTo(m->name)) return VqBtf(m);
+    names += (names.empty() ? "" : ", ") + m->name;
+  }
+  if (material.empty())
+    throw FileError(path, "is a database of " + std::to_string(materials.size()) + " materials (" + names +
+                              "): name the one to read");
+  throw FileError(path, "holds no material named '" + std::string(material) + "' (it holds " + names + ")");
 }
 
 }  // namespace btf

@@ -235,20 +235,24 @@ std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::str
     }
   }
   if (type == "btf") {
-    m.allowOnly({"type", "file", "mapping", "uv_scale", "axis", "filter", "sampler"});
+    m.allowOnly({"type", "file", "material", "mapping", "uv_scale", "axis", "filter", "sampler"});
     const std::filesystem::path file = m["file"].existingPath();
+    // "material": which material of a .btfz database (compress/vq_database.h).
+    const std::string material = m.has("material") ? m["material"].string() : std::string();
     BtfTexelFilter filter = BtfTexelFilter::Bilinear;
     if (m.has("filter")) {
       const std::string f = m["filter"].string();
       if (f == "nearest") filter = BtfTexelFilter::Nearest;
       else if (f != "bilinear") m["filter"].fail("expected bilinear or nearest");
     }
+    if (!material.empty() && file.extension() != ".btfz") m["material"].fail("names a material of a .btfz database only");
     std::shared_ptr<const BtfLookup> lookup;
     std::error_code ec;
     if (std::filesystem::is_directory(file, ec)) lookup = std::make_shared<BtfData>(BtfData::copyOf(BtfImageFolder::open(file)));
-    else if (file.extension() == ".btfz") lookup = std::make_shared<VqBtf>(VqBtf::read(file));
+    else if (file.extension() == ".btfz") lookup = std::make_shared<VqBtf>(VqBtf::read(file, material));
     else m["file"].fail("expected a .btfz file or a BTF image folder");
-    return std::make_shared<BtfMaterial>(std::move(lookup), filter, "btf(" + file.filename().string() + ")");
+    const std::string label = file.filename().string() + (material.empty() ? "" : ":" + material);
+    return std::make_shared<BtfMaterial>(std::move(lookup), filter, "btf(" + label + ")");
   }
   m["type"].fail("unknown material type '" + type + "'");
 }

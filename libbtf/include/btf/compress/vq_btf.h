@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "btf/io/btf_data.h"
@@ -108,8 +109,10 @@ class VqBtf final : public BtfSource, public BtfLookup {
   Rgb weightedSum(int x, int y, const int* views, const int* lights, const float* weights, int count) const;
 
   // .btfz (io/container.h). write() fills stats().compressed_bytes; read() throws FileError.
+  // read() also takes a database of materials (compress/vq_database.h): `material` names the one
+  // to read; it may be left empty for a single-material file or a database of one.
   void write(const std::filesystem::path& path) const;
-  static VqBtf read(const std::filesystem::path& path);
+  static VqBtf read(const std::filesystem::path& path, std::string_view material = {});
 
   struct Impl;  // codebooks and index streams (src/compress/)
   explicit VqBtf(std::shared_ptr<Impl> impl);

@@ -1,0 +1,319 @@
+// VqDatabase: materials with shared codebooks (compress/vq_database.h), their .btfz layout and the
+// lossless merge. compressVqDatabase is in vq_compress.cpp, beside the compressor it drives.
+//
+// Layout: the header (format "libbtf-vq-database") lists the materials in order (name, texels,
+// views when some are missing, level-3 entries); the shared sections are those of a
+// single-material file, the per-material ones carry the prefix "material<i>/" (vq_sections.h).
+#include "btf/compress/vq_database.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <set>
+#include <unordered_map>
+
+#include "btf/core/error.h"
+#include "vq_impl.h"
+#include "vq_sections.h"
+
+namespace btf {
+
+namespace {
+
+constexpr int kDatabaseVersion = 1;
+
+std::string materialPrefix(std::size_t i) { return "material" + std::to_string(i) + "/"; }
+
+bool sameShared(const VqBtf::Impl& a, const VqBtf::Impl& b) {
+  return a.l1 == b.l1 && a.chroma == b.chroma && a.l2_index == b.l2_index && a.l2_scale == b.l2_scale &&
+         a.l2_chroma == b.l2_chroma;
+}
+bool sameOptions(const VqOptions& a, const VqOptions& b) {
+  return a.levels == b.levels && a.epsilon == b.epsilon && a.chroma_epsilon == b.chroma_epsilon &&
+         a.energy_floor == b.energy_floor;
+}
+std::string describeOptions(const VqOptions& o) {
+  char text[160];
+  std::snprintf(text, sizeof text, "levels %d, epsilon %g, chroma_epsilon %g, energy_floor %g", o.levels,
+                double(o.epsilon), double(o.chroma_epsilon), double(o.energy_floor));
+  return text;
+}
+std::vector<std::size_t> sharedEntriesOf(const VqBtf::Impl& m) {
+  std::vector<std::size_t> entries = vqCodebookEntries(m);
+  if (m.options.levels == 3) entries.pop_back();
+  return entries;
+}
+void copyShared(const VqBtf::Impl& from, VqBtf::Impl& to) {
+  to.l1 = from.l1;
+  to.chroma = from.chroma;
+  to.l2_index = from.l2_index;
+  to.l2_scale = from.l2_scale;
+  to.l2_chroma = from.l2_chroma;
+}
+
+std::vector<ContainerSection> databaseSections(const std::vector<VqBtf>& materials) {
+  const VqBtf::Impl& first = materials.front().impl();
+  nlohmann::json header = vqOptionsHeader(first);
+  header["format"] = kVqDatabaseFormat;
+  header["format_version"] = kDatabaseVersion;
+  header["codebook_entries"] = sharedEntriesOf(first);
+  nlohmann::json list = nlohmann::json::array();
+  for (const VqBtf& material : materials) {
+    const VqBtf::Impl& m = material.impl();
+    nlohmann::json entry{{"name", m.name}, {"width", m.width}, {"height", m.height}};
+    if (!m.views.complete()) entry["views"] = m.views.views();
+    if (m.options.levels == 3) entry["level3_entries"] = m.l3Count();
+    list.push_back(std::move(entry));
+  }
+  header["materials"] = std::move(list);
+  std::vector<ContainerSection> sections;
+  addVqHeaderSection(header, sections);
+  addVqSharedSections(first, sections);
+  for (std::size_t i = 0; i < materials.size(); ++i) addVqMaterialSections(materials[i].impl(), materialPrefix(i), sections);
+  return sections;
+}
+
+// Stats a material of a database reports: its codebook sizes, and the database's bytes and ratios.
+void setDatabaseStats(std::vector<std::shared_ptr<VqBtf::Impl>>& impls, double raw, std::uint64_t bytes) {
+  for (auto& m : impls) {
+    m->stats.codebook_entries = vqCodebookEntries(*m);
+    m->stats.compressed_bytes = bytes;
+    m->stats.ratio_u8 = bytes ? raw / double(bytes) : 0.0;
+    m->stats.ratio_f32 = 4.0 * m->stats.ratio_u8;
+  }
+}
+
+// Interns codebook entries (fixed-length runs of values) by their bytes: the index of the first
+// equal entry, or a new one appended to `book`.
+template <class T>
+class EntryInterner {
+ public:
+  EntryInterner(std::vector<T>& book, std::size_t length) : book_(book), length_(length) {}
+  std::uint32_t intern(const T* values) {
+    std::string key(reinterpret_cast<const char*>(values), length_ * sizeof(T));
+    const auto [it, added] = index_.try_emplace(std::move(key), std::uint32_t(book_.size() / length_));
+    if (added) book_.insert(book_.end(), values, values + length_);
+    return it->second;
+  }
+
+ private:
+  std::vector<T>& book_;
+  std::size_t length_;
+  std::unordered_map<std::string, std::uint32_t> index_;
+};
+
+}  // namespace
+
+VqDatabase::VqDatabase(std::vector<VqBtf> materials) : materials_(std::move(materials)) {
+  if (materials_.empty()) throw Error("a VQ database needs at least one material");
+  std::set<std::string> seen;
+  const VqBtf::Impl& first = materials_.front().impl();
+  for (const VqBtf& material : materials_) {
+    const VqBtf::Impl& m = material.impl();
+    if (m.name.empty()) throw Error("a VQ database's materials need names");
+    if (!seen.insert(m.name).second) throw Error("a VQ database holds two materials named '" + m.name + "'");
+    if (!sameOptions(m.options, first.options))
+      throw Error("material '" + m.name + "' was compressed with " + describeOptions(m.options) + ", material '" +
+                  first.name + "' with " + describeOptions(first.options) + ": a database has one set of options");
+    if (&m != &first && !sameShared(m, first))
+      throw Error("material '" + m.name + "' does not share the codebooks of '" + first.name +
+                  "' (materials compressed apart are joined by mergeVqDatabases)");
+  }
+}
+
+std::vector<std::string> VqDatabase::names() const {
+  std::vector<std::string> out;
+  for (const VqBtf& m : materials_) out.push_back(m.impl().name);
+  return out;
+}
+
+const VqBtf& VqDatabase::material(std::string_view name) const {
+  std::string all;
+  for (const VqBtf& m : materials_) {
+    if (m.impl().name == name) return m;
+    all += (all.empty() ? "" : ", ") + m.impl().name;
+  }
+  throw Error("no material named '" + std::string(name) + "' (the database holds " + all + ")");
+}
+
+std::vector<std::size_t> VqDatabase::sharedEntries() const { return sharedEntriesOf(materials_.front().impl()); }
+
+double VqDatabase::rawBytesU8() const {
+  double raw = 0;
+  for (const VqBtf& m : materials_) raw += double(m.entryCount()) * 3.0;
+  return raw;
+}
+
+std::uint64_t VqDatabase::compressedBytes() const {
+  if (bytes_ == 0) bytes_ = vqSectionsBytes(databaseSections(materials_));
+  return bytes_;
+}
+
+void VqDatabase::write(const std::filesystem::path& path) {
+  auto sections = databaseSections(materials_);
+  bytes_ = writeContainer(path, sections, vqZstdLevelFor(sections));
+}
+
+VqDatabase VqDatabase::read(const std::filesystem::path& path) {
+  const auto impls = readVqFile(path);
+  std::vector<VqBtf> materials;
+  for (const auto& impl : impls) {
+    // A single-material file's name carries the compressor's " (vq)"; a database's names are bare.
+    if (impls.size() == 1 && impl->name.ends_with(" (vq)")) impl->name.resize(impl->name.size() - 5);
+    materials.emplace_back(impl);
+  }
+  VqDatabase database(std::move(materials));
+  database.bytes_ = std::filesystem::file_size(path);
+  return database;
+}
+
+std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vector<ContainerSection>& sections,
+                                                                 const nlohmann::json& header,
+                                                                 const std::filesystem::path& path,
+                                                                 std::string_view only) {
+  VqBtf::Impl shared;
+  std::vector<std::size_t> shared_entries;
+  nlohmann::json list;
+  try {
+    const int version = header.at("format_version").get<int>();
+    if (version != kDatabaseVersion)
+      throw FileError(path, "VQ database format version " + std::to_string(version) +
+                                " is not supported (this build reads " + std::to_string(kDatabaseVersion) + ")");
+    shared_entries = header.at("codebook_entries").get<std::vector<std::size_t>>();
+    list = header.at("materials");
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("VQ database header is invalid: ") + e.what());
+  }
+  // Each material has at least two sections of its own: a longer list is a damaged header, which
+  // must not make the reader allocate for it.
+  if (!list.is_array() || list.empty() || list.size() > sections.size())
+    throw FileError(path, "VQ database header lists no materials, or more than its sections can hold");
+  readVqOptions(header, path, shared.options);
+  readVqSharedSections(sections, path, shared);
+  std::vector<std::shared_ptr<VqBtf::Impl>> impls, skipped;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    auto m = std::make_shared<VqBtf::Impl>();
+    m->options = shared.options;
+    copyShared(shared, *m);
+    std::size_t l3_entries = 0;
+    try {
+      const nlohmann::json& entry = list.at(i);
+      m->name = entry.at("name").get<std::string>();
+      m->width = entry.at("width").get<int>();
+      m->height = entry.at("height").get<int>();
+      if (entry.contains("views")) m->views = BtfViewSet(entry.at("views").get<std::vector<int>>());
+      if (m->options.levels == 3) l3_entries = entry.at("level3_entries").get<std::size_t>();
+    } catch (const nlohmann::json::exception& e) {
+      throw FileError(path, "VQ database header's material " + std::to_string(i) + " is invalid: " + e.what());
+    } catch (const Error& e) {
+      throw FileError(path, "VQ database header's material " + std::to_string(i) + " has invalid views: " + e.what());
+    }
+    if (m->name.empty() || !names.insert(m->name).second)
+      throw FileError(path, "VQ database material " + std::to_string(i) + " has an empty or repeated name '" + m->name + "'");
+    if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
+      throw FileError(path, "VQ database material '" + m->name + "' has an invalid texel size");
+    if (!only.empty() && m->name != only) {
+      skipped.push_back(std::move(m));  // listed by name in the caller's message, never decoded
+      continue;
+    }
+    readVqMaterialSections(sections, materialPrefix(i), path, *m);
+    prepareReadVq(*m, path);
+    std::vector<std::size_t> expected = shared_entries;
+    if (m->options.levels == 3) expected.push_back(l3_entries);
+    if (vqCodebookEntries(*m) != expected)
+      throw FileError(path, "VQ database header's codebook entry counts disagree with the sections of material '" +
+                                m->name + "' (an edited header?)");
+    impls.push_back(std::move(m));
+  }
+  double raw = 0;
+  for (const auto* list_of : {&impls, &skipped})
+    for (const auto& m : *list_of) raw += double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
+  setDatabaseStats(impls, raw, std::filesystem::file_size(path));
+  // Asked for one material that is not there: the names, for the caller to list.
+  if (!only.empty() && impls.empty()) return skipped;
+  return impls;
+}
+
+VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts) {
+  if (parts.empty()) throw Error("merging VQ databases needs at least one");
+  const VqOptions& options = parts.front().options();
+  std::set<std::string> names;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (!sameOptions(parts[p].options(), options))
+      throw Error("cannot merge: database " + std::to_string(p + 1) + " was compressed with " +
+                  describeOptions(parts[p].options()) + ", database 1 with " + describeOptions(options) +
+                  " (recompress with the same options)");
+    for (const std::string& name : parts[p].names())
+      if (!names.insert(name).second) throw Error("cannot merge: two materials are named '" + name + "'");
+  }
+  // The merged shared codebooks: every part's entries, each distinct entry once, in part order (so
+  // the first part's entries keep their indices unless it repeats one).
+  VqBtf::Impl books;
+  std::vector<EntryInterner<std::uint16_t>> l1;
+  std::vector<EntryInterner<std::int32_t>> chroma;
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    l1.emplace_back(books.l1[std::size_t(r)], std::size_t(btfRingSize(r)));
+    chroma.emplace_back(books.chroma[std::size_t(r)], 2 * std::size_t(btfRingSize(r)));
+  }
+  std::vector<std::uint32_t> l2_key_book;  // (index, scale, chroma) per ring, as one entry
+  EntryInterner<std::uint32_t> l2(l2_key_book, 3 * kBtfRingCount);
+  std::vector<std::shared_ptr<VqBtf::Impl>> impls;
+  for (const VqDatabase& part : parts) {
+    const VqBtf::Impl& src = part.materials().front().impl();
+    std::array<std::vector<std::uint32_t>, kBtfRingCount> l1_map, chroma_map;
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      const std::size_t n = std::size_t(btfRingSize(r));
+      for (std::size_t e = 0; e < src.l1Count(r); ++e) l1_map[std::size_t(r)].push_back(l1[std::size_t(r)].intern(&src.l1[std::size_t(r)][e * n]));
+      for (std::size_t c = 0; c < src.chromaCount(r); ++c)
+        chroma_map[std::size_t(r)].push_back(chroma[std::size_t(r)].intern(&src.chroma[std::size_t(r)][c * 2 * n]));
+    }
+    std::vector<std::uint32_t> l2_map;
+    for (std::size_t e = 0; e < src.l2Count(); ++e) {
+      std::uint32_t key[3 * kBtfRingCount];
+      for (int r = 0; r < kBtfRingCount; ++r) {
+        const std::size_t k = e * kBtfRingCount + std::size_t(r);
+        key[r] = l1_map[std::size_t(r)][src.l2_index[k]];
+        key[kBtfRingCount + r] = src.l2_scale[k];
+        key[2 * kBtfRingCount + r] = chroma_map[std::size_t(r)][src.l2_chroma[k]];
+      }
+      l2_map.push_back(l2.intern(key));
+    }
+    for (const VqBtf& material : part.materials()) {
+      auto m = std::make_shared<VqBtf::Impl>(material.impl());
+      for (auto& e : m->l3_index) e = l2_map[e];
+      if (options.levels == 1) {
+        for (std::size_t i = 0; i < m->top_index.size(); ++i) {
+          const std::size_t r = i % kBtfRingCount;
+          m->top_index[i] = l1_map[r][m->top_index[i]];
+          m->top_chroma[i] = chroma_map[r][m->top_chroma[i]];
+        }
+      } else if (options.levels == 2) {
+        for (auto& e : m->top_index) e = l2_map[e];
+      }
+      impls.push_back(std::move(m));
+    }
+  }
+  for (std::size_t e = 0; e < l2_key_book.size() / (3 * kBtfRingCount); ++e) {
+    const std::uint32_t* key = &l2_key_book[e * 3 * kBtfRingCount];
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      books.l2_index.push_back(key[r]);
+      books.l2_scale.push_back(std::uint16_t(key[kBtfRingCount + r]));
+      books.l2_chroma.push_back(key[2 * kBtfRingCount + r]);
+    }
+  }
+  std::vector<VqBtf> materials;
+  for (auto& m : impls) {
+    copyShared(books, *m);
+    m->prepare("mergeVqDatabases");
+    m->stats.codebook_entries = vqCodebookEntries(*m);
+    materials.emplace_back(m);
+  }
+  VqDatabase merged(std::move(materials));
+  double seconds = 0;
+  for (const VqDatabase& part : parts) seconds += part.seconds();
+  merged.setSeconds(seconds);
+  return merged;
+}
+
+}  // namespace btf

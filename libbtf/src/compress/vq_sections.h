@@ -1,0 +1,54 @@
+// The .btfz sections of VQ-compressed BTFs (private to src/compress/), shared by the single-material
+// files (vq_io.cpp) and the databases of materials with shared codebooks (vq_database.cpp):
+//   shared:       "level1/ring<r>", "chroma/ring<r>", "level2/{index,scale,chroma}"
+//   per material: PREFIX "level3/{index,scale}", PREFIX "top/{index,scale,chroma}" (those the level
+//                 count uses; PREFIX is "" in a single-material file, "material<i>/" in a database)
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "btf/io/container.h"
+#include "vq_impl.h"
+
+namespace btf {
+
+inline constexpr const char* kVqDatabaseFormat = "libbtf-vq-database";
+
+void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std::string name, std::vector<std::byte> data);
+void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections);
+// Header keys of the options and the chroma grid (both formats).
+nlohmann::json vqOptionsHeader(const VqBtf::Impl& m);
+void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections);
+void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections);
+// The zstd level the writer uses for these sections, and the file size they will make.
+int vqZstdLevelFor(const std::vector<ContainerSection>& sections);
+std::uint64_t vqSectionsBytes(const std::vector<ContainerSection>& sections);
+
+// Readers: each throws FileError naming `path` and what is wrong.
+const ContainerSection& vqSection(const std::vector<ContainerSection>& sections, const std::string& name,
+                                  const std::filesystem::path& path);
+nlohmann::json parseVqHeader(const std::vector<ContainerSection>& sections, const std::filesystem::path& path);
+void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options);
+void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m);
+void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
+                            const std::filesystem::path& path, VqBtf::Impl& m);
+// Impl::prepare with its errors as FileErrors of `path`.
+void prepareReadVq(VqBtf::Impl& m, const std::filesystem::path& path);
+// Entries per level as VqStats::codebook_entries counts them (level 1 without ring 0's seed).
+std::vector<std::size_t> vqCodebookEntries(const VqBtf::Impl& m);
+
+// The materials of a .btfz file, single or database (in the database's order): all of them, or
+// with `only` the one of that name (when there is one; the others are not decoded).
+std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path& path, std::string_view only = {});
+std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vector<ContainerSection>& sections,
+                                                                 const nlohmann::json& header,
+                                                                 const std::filesystem::path& path,
+                                                                 std::string_view only = {});
+
+}  // namespace btf
