@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/io/container.h"
@@ -243,7 +245,7 @@ TEST(VqBtf, WriteReadRoundTripDecodesBitIdentically) {
     btf::VqOptions options;
     options.levels = levels;
     const btf::VqBtf vq = btf::compressVq(varyingChromaBtf(), options);
-    const auto path = dir / ("l" + std::to_string(levels) + ".btfz");
+    const auto path = dir / (levels == 1 ? "l1.btfz" : levels == 2 ? "l2.btfz" : "l3.btfz");
     vq.write(path);
     EXPECT_EQ(vq.stats().compressed_bytes, std::filesystem::file_size(path));
     const btf::VqBtf back = btf::VqBtf::read(path);
@@ -351,4 +353,54 @@ TEST(VqBtf, RejectsInvalidOptionsAndData) {
   } catch (const btf::Error& e) {
     EXPECT_NE(std::string(e.what()).find("view 3, light 7"), std::string::npos) << e.what();
   }
+}
+
+TEST(VqBtf, ReaderRejectsNonsenseInTheHeader) {
+  // Issue 16's mutation probe: header JSON with correct CRCs but values of the wrong type or range
+  // loaded with exit 0 (nlohmann converts booleans and floats without a word). Each is an error
+  // naming the key now.
+  btf::test::TempDir dir;
+  const btf::VqBtf vq = btf::compressVq(varyingChromaBtf(), {});
+  const auto good = dir / "good.btfz";
+  vq.write(good);
+  auto withHeader = [&](const std::string& name, const std::string& key, const std::string& value) {
+    auto sections = btf::readContainer(good);
+    for (auto& s : sections) {
+      s.compress = true;
+      if (s.name != "header") continue;
+      auto header = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(s.data.data()), s.data.size()));
+      header[key] = nlohmann::json::parse(value);
+      const std::string text = header.dump();
+      s.data.assign(reinterpret_cast<const std::byte*>(text.data()), reinterpret_cast<const std::byte*>(text.data()) + text.size());
+    }
+    const auto path = dir / (name + ".btfz");
+    btf::writeContainer(path, sections);
+    return path;
+  };
+  const struct {
+    std::string key, value, words;
+  } cases[] = {
+      {"codebook_entries", "[-1, 1274, 17]", "codebook_entries"},
+      {"chroma_entries", "null", "chroma_entries"},
+      {"chroma_entries", "[\"x\", 1, 1, 1, 1, 1]", "chroma_entries"},
+      {"chroma_entries", "[1, 1, 1, 1, 1, 1]", "chroma_entries disagree"},
+      {"epsilon", "-1", "epsilon"},
+      {"epsilon", "\"0.02\"", "epsilon"},
+      {"energy_floor", "true", "energy_floor"},
+      {"energy_floor", "-2", "energy_floor"},
+      {"width", "8.5", "width"},
+      {"levels", "\"3\"", "levels"},
+  };
+  int i = 0;
+  for (const auto& c : cases) {
+    const auto path = withHeader("case" + std::to_string(i++), c.key, c.value);
+    try {
+      btf::VqBtf::read(path);
+      ADD_FAILURE() << c.key << " = " << c.value << " accepted";
+    } catch (const btf::FileError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.words), std::string::npos) << c.key << " = " << c.value << ": " << e.what();
+    }
+  }
+  // The unedited header still reads.
+  EXPECT_NO_THROW(btf::VqBtf::read(withHeader("same", "epsilon", std::to_string(vq.options().epsilon))));
 }

@@ -179,7 +179,6 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     if (version != kDatabaseVersion)
       throw FileError(path, "VQ database format version " + std::to_string(version) +
                                 " is not supported (this build reads " + std::to_string(kDatabaseVersion) + ")");
-    shared_entries = header.at("codebook_entries").get<std::vector<std::size_t>>();
     list = header.at("materials");
   } catch (const nlohmann::json::exception& e) {
     throw FileError(path, std::string("VQ database header is invalid: ") + e.what());
@@ -188,6 +187,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   // must not make the reader allocate for it.
   if (!list.is_array() || list.empty() || list.size() > sections.size())
     throw FileError(path, "VQ database header lists no materials, or more than its sections can hold");
+  shared_entries = vqHeaderCounts(header, "codebook_entries", path);
   readVqOptions(header, path, shared.options);
   readVqSharedSections(sections, path, shared);
   std::vector<std::shared_ptr<VqBtf::Impl>> impls, skipped;
@@ -199,13 +199,22 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     std::size_t l3_entries = 0;
     try {
       const nlohmann::json& entry = list.at(i);
+      if (!entry.is_object()) throw FileError(path, "VQ database header's material " + std::to_string(i) + " is not an object");
       m->name = entry.at("name").get<std::string>();
-      m->width = entry.at("width").get<int>();
-      m->height = entry.at("height").get<int>();
+      m->width = vqHeaderInt(entry, "width", path);
+      m->height = vqHeaderInt(entry, "height", path);
       if (entry.contains("views")) m->views = BtfViewSet(entry.at("views").get<std::vector<int>>());
-      if (m->options.levels == 3) l3_entries = entry.at("level3_entries").get<std::size_t>();
+      if (m->options.levels == 3) {
+        const nlohmann::json& n = entry.at("level3_entries");
+        if (!n.is_number_unsigned())
+          throw FileError(path, "VQ database header's material " + std::to_string(i) + " has level3_entries " + n.dump() +
+                                    ", not a count");
+        l3_entries = n.get<std::size_t>();
+      }
     } catch (const nlohmann::json::exception& e) {
       throw FileError(path, "VQ database header's material " + std::to_string(i) + " is invalid: " + e.what());
+    } catch (const FileError&) {
+      throw;
     } catch (const Error& e) {
       throw FileError(path, "VQ database header's material " + std::to_string(i) + " has invalid views: " + e.what());
     }
@@ -224,6 +233,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     if (vqCodebookEntries(*m) != expected)
       throw FileError(path, "VQ database header's codebook entry counts disagree with the sections of material '" +
                                 m->name + "' (an edited header?)");
+    if (impls.empty()) checkVqChromaEntries(header, *m, path);
     impls.push_back(std::move(m));
   }
   double raw = 0;

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "btf/core/error.h"
@@ -150,18 +152,54 @@ nlohmann::json parseVqHeader(const std::vector<ContainerSection>& sections, cons
   }
 }
 
-void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options) {
-  try {
-    options.levels = header.at("levels").get<int>();
-    options.epsilon = header.at("epsilon").get<float>();
-    options.chroma_epsilon = header.at("chroma_epsilon").get<float>();
-    options.energy_floor = header.at("energy_floor").get<float>();
-  } catch (const nlohmann::json::exception& e) {
-    throw FileError(path, std::string("VQ header is invalid: ") + e.what());
+int vqHeaderInt(const nlohmann::json& object, const char* key, const std::filesystem::path& path) {
+  const auto it = object.find(key);
+  if (it == object.end()) throw FileError(path, std::string("VQ header has no \"") + key + "\"");
+  if (!it->is_number_integer() || *it < INT32_MIN || *it > INT32_MAX)
+    throw FileError(path, std::string("VQ header's \"") + key + "\" is " + it->dump() + ", not an integer");
+  return it->get<int>();
+}
+
+float vqHeaderFloat(const nlohmann::json& object, const char* key, const std::filesystem::path& path) {
+  const auto it = object.find(key);
+  if (it == object.end()) throw FileError(path, std::string("VQ header has no \"") + key + "\"");
+  if (!it->is_number() || !std::isfinite(it->get<double>()))
+    throw FileError(path, std::string("VQ header's \"") + key + "\" is " + it->dump() + ", not a finite number");
+  return it->get<float>();
+}
+
+std::vector<std::size_t> vqHeaderCounts(const nlohmann::json& object, const char* key, const std::filesystem::path& path) {
+  const auto it = object.find(key);
+  if (it == object.end()) throw FileError(path, std::string("VQ header has no \"") + key + "\"");
+  if (!it->is_array()) throw FileError(path, std::string("VQ header's \"") + key + "\" is not a list of counts");
+  std::vector<std::size_t> counts;
+  for (const auto& v : *it) {
+    if (!v.is_number_unsigned())
+      throw FileError(path, std::string("VQ header's \"") + key + "\" holds " + v.dump() + ", not a count");
+    counts.push_back(v.get<std::size_t>());
   }
+  return counts;
+}
+
+// nlohmann converts booleans, and floats to integers, without a word: each field is checked for
+// its type and range here, so that a damaged header is an error, never a silent default.
+void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options) {
+  options.levels = vqHeaderInt(header, "levels", path);
+  options.epsilon = vqHeaderFloat(header, "epsilon", path);
+  options.chroma_epsilon = vqHeaderFloat(header, "chroma_epsilon", path);
+  options.energy_floor = vqHeaderFloat(header, "energy_floor", path);
   if (options.levels < 1 || options.levels > 3) throw FileError(path, "VQ header has an invalid level count");
+  if (!(options.epsilon >= 0.0f) || !(options.epsilon < 1.0f)) throw FileError(path, "VQ header has an invalid epsilon");
   if (!(options.chroma_epsilon >= kVqMinChromaEpsilon) || !(options.chroma_epsilon <= 1.0f))
     throw FileError(path, "VQ header has an invalid chroma_epsilon");
+  if (!(options.energy_floor >= 0.0f)) throw FileError(path, "VQ header has an invalid energy_floor");
+}
+
+void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, const std::filesystem::path& path) {
+  std::vector<std::size_t> expected;
+  for (int r = 0; r < kBtfRingCount; ++r) expected.push_back(m.chromaCount(r));
+  if (vqHeaderCounts(header, "chroma_entries", path) != expected)
+    throw FileError(path, "VQ header's chroma_entries disagree with its chromaticity codebook sections (an edited header?)");
 }
 
 void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m) {
@@ -249,10 +287,10 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
     if (version != kFormatVersion)
       throw FileError(path, "VQ format version " + std::to_string(version) + " is not supported (this build reads " +
                                 std::to_string(kFormatVersion) + ")");
-    m->width = header.at("width").get<int>();
-    m->height = header.at("height").get<int>();
+    m->width = vqHeaderInt(header, "width", path);
+    m->height = vqHeaderInt(header, "height", path);
     m->name = header.at("name").get<std::string>();
-    m->stats.codebook_entries = header.at("codebook_entries").get<std::vector<std::size_t>>();
+    m->stats.codebook_entries = vqHeaderCounts(header, "codebook_entries", path);
     if (header.contains("views")) m->views = BtfViewSet(header.at("views").get<std::vector<int>>());
   } catch (const nlohmann::json::exception& e) {
     throw FileError(path, std::string("VQ header is invalid: ") + e.what());
@@ -272,6 +310,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
   // wrong values without an error.
   if (vqCodebookEntries(*m) != m->stats.codebook_entries)
     throw FileError(path, "VQ header's codebook entry counts disagree with its codebook sections (an edited header?)");
+  checkVqChromaEntries(header, *m, path);
   m->stats.compressed_bytes = std::filesystem::file_size(path);
   const double raw = double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
   m->stats.ratio_u8 = raw / double(m->stats.compressed_bytes);

@@ -34,6 +34,12 @@ std::uint64_t vqSectionsBytes(const std::vector<ContainerSection>& sections);
 const ContainerSection& vqSection(const std::vector<ContainerSection>& sections, const std::string& name,
                                   const std::filesystem::path& path);
 nlohmann::json parseVqHeader(const std::vector<ContainerSection>& sections, const std::filesystem::path& path);
+// Header fields read strictly (type and range), each a FileError naming the key and the value.
+int vqHeaderInt(const nlohmann::json& object, const char* key, const std::filesystem::path& path);
+float vqHeaderFloat(const nlohmann::json& object, const char* key, const std::filesystem::path& path);
+std::vector<std::size_t> vqHeaderCounts(const nlohmann::json& object, const char* key, const std::filesystem::path& path);
+// The header's per-ring "chroma_entries" must be the sections' counts.
+void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, const std::filesystem::path& path);
 void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options);
 void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m);
 void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
