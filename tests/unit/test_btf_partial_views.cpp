@@ -374,6 +374,15 @@ TEST(BtfPartialViewsImages, Png16RoundTripIsWithinHalfALinearStep) {
   EXPECT_GT(worst, scale * 0.05f / 65535.0f);
 }
 
+TEST(BtfPartialViewsImages, TheMissingImageSuggestedHasTheFoldersOwnExtension) {
+  // Issue 16's probe: an EXR folder's error suggested a .png name.
+  test::TempDir dir;
+  const fs::path folder = copyOfFolder(partialFolder(BtfImageFormat::Exr), dir);
+  fs::remove(folder / "tv015_pv060_tl030_pl000.exr");
+  const std::string message = test::errorOf([&] { BtfImageFolder::open(folder); });
+  EXPECT_THAT(message, HasSubstr("e.g. tv015_pv060_tl030_pl000.exr"));
+}
+
 TEST(BtfPartialViewsImages, MissingLightImageOfAHeldViewIsNamed) {
   test::TempDir dir;
   const fs::path folder = copyOfFolder(partialFolder(BtfImageFormat::Png8), dir);

@@ -209,11 +209,19 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
         ++missing;
       }
     if (missing == kBtfDirectionCount) continue;
-    if (missing > 0)
+    if (missing > 0) {
+      // The name to suggest, with the extension the view's other images have (.exr, .jpg, ...).
+      fs::path suggestion = btfImageName(view, first_missing, BtfImageFormat::Png8);
+      for (int light = 0; light < kBtfDirectionCount; ++light)
+        if (const fs::path& held_path = result.paths_[std::size_t(view * kBtfDirectionCount + light)]; !held_path.empty()) {
+          suggestion.replace_extension(held_path.extension());
+          break;
+        }
       throw FileError(folder, "the image of " + describePair(view, first_missing) + " is missing (e.g. " +
-                                  btfImageName(view, first_missing, BtfImageFormat::Png8) + "); " +
+                                  suggestion.string() + "); " +
                                   std::to_string(missing) + " of the view's " + std::to_string(kBtfDirectionCount) +
                                   " light images are missing (a view held needs every light)");
+    }
     held.push_back(view);
   }
   result.views_ = BtfViewSet(std::move(held));
