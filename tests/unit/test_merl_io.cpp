@@ -48,7 +48,7 @@ MerlTable randomTable() {
   }
   table.values[17] = -0.0;
   table.values[18] = std::numeric_limits<double>::denorm_min();
-  table.values[19] = std::numeric_limits<double>::max();
+  table.values[19] = 1e20;  // the largest magnitude a table may hold (merl.cpp)
   table.values[20] = 0.1;  // not representable as float
   return table;
 }
@@ -174,6 +174,17 @@ TEST_F(MerlIo, InfiniteEntryNamesIndexAndChannel) {
   values[2 * kN + 77] = -std::numeric_limits<double>::infinity();
   writeRaw(dir / "inf.binary", {90, 90, 180}, values);
   expectReadError(dir / "inf.binary", {"infinite", "entry 77", "channel B"});
+}
+
+TEST_F(MerlIo, HugeFiniteEntryIsRefusedBeforeItOverflowsAFloat) {
+  // Issue 16's probe: 1e308 passed the finite check and printed max inf, mean inf.
+  std::vector<double> values(3 * kN, 1.0);
+  values[123] = 1e308;
+  writeRaw(dir / "huge.binary", {90, 90, 180}, values);
+  expectReadError(dir / "huge.binary", {"1e+308", "beyond the range", "entry 123", "channel R"});
+  values[123] = -1e25;
+  writeRaw(dir / "huge2.binary", {90, 90, 180}, values);
+  expectReadError(dir / "huge2.binary", {"beyond the range", "entry 123"});
 }
 
 TEST_F(MerlIo, WriterRefusesNonFiniteValuesAndLeavesNoFile) {

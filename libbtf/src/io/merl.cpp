@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -48,14 +49,26 @@ std::string describeEntry(std::size_t flat) {
          std::to_string(phi_d) + ")";
 }
 
-// Index of the first NaN or infinite value, or values.size() if all are finite.
+// The largest magnitude a stored value may have. The tables are evaluated in float, and sums of
+// values (albedo, statistics) must stay finite: a double like 1e308 passes the finite check yet
+// becomes inf as a float. Measured MERL values (BRDF times the channel's scale inverse, about 1500)
+// stay many orders of magnitude below this.
+constexpr double kMerlMaxMagnitude = 1e20;
+
+// Index of the first NaN, infinite or out-of-range value, or values.size() if there is none.
 std::size_t firstNonFinite(const std::vector<double>& values) {
   for (std::size_t k = 0; k < values.size(); ++k)
-    if (!std::isfinite(values[k])) return k;
+    if (!std::isfinite(values[k]) || std::abs(values[k]) > kMerlMaxMagnitude) return k;
   return values.size();
 }
 
 std::string nonFiniteProblem(const std::vector<double>& values, std::size_t k) {
+  if (std::isfinite(values[k])) {
+    char text[120];
+    std::snprintf(text, sizeof text, "value %g beyond the range a measured table can hold (|value| <= %g)", values[k],
+                  kMerlMaxMagnitude);
+    return std::string(text) + " at " + describeEntry(k);
+  }
   return std::string(std::isnan(values[k]) ? "NaN" : "infinite value") + " at " + describeEntry(k);
 }
 
