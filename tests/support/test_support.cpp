@@ -55,6 +55,15 @@ CommandResult runCommand(const std::string& program, const std::vector<std::stri
   return result;
 }
 
+fs::path rewriteContainer(const fs::path& from, const fs::path& to,
+                          const std::function<void(std::vector<ContainerSection>&)>& change) {
+  auto sections = readContainer(from);
+  for (auto& s : sections) s.compress = true;
+  change(sections);
+  writeContainer(to, sections);
+  return to;
+}
+
 fs::path sharedDataDir() { return BTF_SHARED_DATA_DIR; }
 
 }  // namespace btf::test

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "btf/core/error.h"
+#include "btf/io/container.h"
 
 namespace btf::test {
 
@@ -30,6 +31,12 @@ struct CommandResult {
 };
 // Runs a program with arguments (through /bin/sh, every argument quoted), capturing its output.
 CommandResult runCommand(const std::string& program, const std::vector<std::string>& args);
+
+// A copy of the .btfz container `from` written to `to` with its sections edited by `change` (every
+// section stored zstd-compressed, checksums recomputed): for tests of readers given files whose
+// container is valid but whose content is not. Returns `to`.
+std::filesystem::path rewriteContainer(const std::filesystem::path& from, const std::filesystem::path& to,
+                                       const std::function<void(std::vector<ContainerSection>&)>& change);
 
 // ../shared/data/real, as configured at build time.
 std::filesystem::path sharedDataDir();

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <fstream>
 
@@ -275,13 +276,8 @@ TEST(VqBtf, ReaderRejectsCorruptAndSemanticallyInvalidFiles) {
   }
   // Valid containers with invalid VQ content: an empty codebook, an index beyond its codebook, a
   // partial chroma entry, a missing section.
-  auto rewrite = [&](const std::string& name, auto&& change) {
-    auto sections = btf::readContainer(good);
-    for (auto& s : sections) s.compress = true;
-    change(sections);
-    const auto path = dir / (name + ".btfz");
-    btf::writeContainer(path, sections);
-    return path;
+  auto rewrite = [&](const std::string& name, const std::function<void(std::vector<btf::ContainerSection>&)>& change) {
+    return btf::test::rewriteContainer(good, dir / (name + ".btfz"), change);
   };
   auto find = [](std::vector<btf::ContainerSection>& sections, const std::string& name) -> btf::ContainerSection& {
     for (auto& s : sections)
@@ -364,18 +360,15 @@ TEST(VqBtf, ReaderRejectsNonsenseInTheHeader) {
   const auto good = dir / "good.btfz";
   vq.write(good);
   auto withHeader = [&](const std::string& name, const std::string& key, const std::string& value) {
-    auto sections = btf::readContainer(good);
-    for (auto& s : sections) {
-      s.compress = true;
-      if (s.name != "header") continue;
-      auto header = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(s.data.data()), s.data.size()));
-      header[key] = nlohmann::json::parse(value);
-      const std::string text = header.dump();
-      s.data.assign(reinterpret_cast<const std::byte*>(text.data()), reinterpret_cast<const std::byte*>(text.data()) + text.size());
-    }
-    const auto path = dir / (name + ".btfz");
-    btf::writeContainer(path, sections);
-    return path;
+    return btf::test::rewriteContainer(good, dir / (name + ".btfz"), [&](std::vector<btf::ContainerSection>& sections) {
+      for (auto& s : sections) {
+        if (s.name != "header") continue;
+        auto header = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(s.data.data()), s.data.size()));
+        header[key] = nlohmann::json::parse(value);
+        const std::string text = header.dump();
+        s.data.assign(reinterpret_cast<const std::byte*>(text.data()), reinterpret_cast<const std::byte*>(text.data()) + text.size());
+      }
+    });
   };
   const struct {
     std::string key, value, words;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -207,13 +208,8 @@ TEST(VqDatabase, ReaderRejectsDamagedDatabases) {
   btf::VqDatabase db = btf::compressVqDatabase(materials().sources(), materials().names(), {});
   const auto good = dir / "good.btfz";
   db.write(good);
-  auto rewrite = [&](const std::string& name, auto&& change) {
-    auto sections = btf::readContainer(good);
-    for (auto& s : sections) s.compress = true;
-    change(sections);
-    const auto path = dir / (name + ".btfz");
-    btf::writeContainer(path, sections);
-    return path;
+  auto rewrite = [&](const std::string& name, const std::function<void(std::vector<btf::ContainerSection>&)>& change) {
+    return btf::test::rewriteContainer(good, dir / (name + ".btfz"), change);
   };
   auto editHeader = [&](const std::string& name, auto&& change) {
     return rewrite(name, [&](std::vector<btf::ContainerSection>& sections) {

@@ -101,7 +101,7 @@ void runDatabaseInfo(const std::filesystem::path& file, const std::vector<Contai
     std::uint64_t own = 0;
     for (const ContainerSection& s : sections)
       if (s.name.starts_with(prefix)) own += s.stored_bytes;
-    materials.push_back({{"name", db.names()[i]},
+    materials.push_back({{"name", m.name()},
                          {"texels", {m.width(), m.height()}},
                          {"views", m.views().views()},
                          {"codebook_entries", m.stats().codebook_entries},

@@ -204,21 +204,8 @@ void runMerge(const std::vector<std::string>& in, const std::string& out) {
     if (std::filesystem::path(path).extension() != ".btfz") throw FileError(path, "is not a .btfz file");
     parts.push_back(VqDatabase::read(path));
     in_bytes += std::filesystem::file_size(path);
-    // The files, rather than their positions, in the message (mergeVqDatabases knows positions only).
-    const VqOptions& a = parts.front().options();
-    const VqOptions& b = parts.back().options();
-    if (a.levels != b.levels || a.epsilon != b.epsilon || a.chroma_epsilon != b.chroma_epsilon ||
-        a.energy_floor != b.energy_floor) {
-      char text[400];
-      std::snprintf(text, sizeof text,
-                    "cannot merge: %s was compressed with levels %d, epsilon %g, chroma_epsilon %g, energy_floor %g; "
-                    "%s with levels %d, epsilon %g, chroma_epsilon %g, energy_floor %g (recompress with the same options)",
-                    path.c_str(), b.levels, double(b.epsilon), double(b.chroma_epsilon), double(b.energy_floor),
-                    in.front().c_str(), a.levels, double(a.epsilon), double(a.chroma_epsilon), double(a.energy_floor));
-      throw Error(text);
-    }
   }
-  VqDatabase merged = mergeVqDatabases(parts);
+  VqDatabase merged = mergeVqDatabases(parts, in);
   merged.write(out);
   const std::uint64_t bytes = std::filesystem::file_size(out);
   std::printf("wrote %s: %zu materials from %zu files, %llu bytes (the inputs: %llu, factor %.2f)\n", out.c_str(),

@@ -158,8 +158,7 @@ VqDatabase VqDatabase::read(const std::filesystem::path& path) {
   const auto impls = readVqFile(path);
   std::vector<VqBtf> materials;
   for (const auto& impl : impls) {
-    // A single-material file's name carries the compressor's " (vq)"; a database's names are bare.
-    if (impls.size() == 1 && impl->name.ends_with(" (vq)")) impl->name.resize(impl->name.size() - 5);
+    if (impls.size() == 1) impl->name = bareVqName(impl->name);  // a database's names are bare
     materials.emplace_back(impl);
   }
   VqDatabase database(std::move(materials));
@@ -245,15 +244,15 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   return impls;
 }
 
-VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts) {
+VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const std::string> labels) {
   if (parts.empty()) throw Error("merging VQ databases needs at least one");
+  auto label = [&](std::size_t p) { return p < labels.size() ? labels[p] : "database " + std::to_string(p + 1); };
   const VqOptions& options = parts.front().options();
   std::set<std::string> names;
   for (std::size_t p = 0; p < parts.size(); ++p) {
     if (!sameOptions(parts[p].options(), options))
-      throw Error("cannot merge: database " + std::to_string(p + 1) + " was compressed with " +
-                  describeOptions(parts[p].options()) + ", database 1 with " + describeOptions(options) +
-                  " (recompress with the same options)");
+      throw Error("cannot merge: " + label(p) + " was compressed with " + describeOptions(parts[p].options()) + "; " +
+                  label(0) + " with " + describeOptions(options) + " (recompress with the same options)");
     for (const std::string& name : parts[p].names())
       if (!names.insert(name).second) throw Error("cannot merge: two materials are named '" + name + "'");
   }

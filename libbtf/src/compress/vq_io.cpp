@@ -320,9 +320,9 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
 
 VqBtf VqBtf::read(const std::filesystem::path& path, std::string_view material) {
   const auto materials = readVqFile(path, material);
-  // A single-material file's name carries the compressor's " (vq)": it answers to its bare name too.
+  // A single-material file answers to its bare name too.
   auto answersTo = [&](const std::string& name) {
-    return name == material || (materials.size() == 1 && name.ends_with(" (vq)") && name.substr(0, name.size() - 5) == material);
+    return name == material || (materials.size() == 1 && bareVqName(name) == material);
   };
   std::string names;
   for (const auto& m : materials) {

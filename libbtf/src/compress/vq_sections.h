@@ -20,6 +20,12 @@ namespace btf {
 
 inline constexpr const char* kVqDatabaseFormat = "libbtf-vq-database";
 
+// A single-material file's name carries the compressor's " (vq)" (compressVq); as a material
+// (in a database, or selected by name) it goes by the name without it.
+inline std::string bareVqName(const std::string& name) {
+  return name.ends_with(" (vq)") ? name.substr(0, name.size() - 5) : name;
+}
+
 void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std::string name, std::vector<std::byte> data);
 void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections);
 // Header keys of the options and the chroma grid (both formats).

@@ -72,7 +72,8 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
                               const VqOptions& options = {});
 
 // The union of databases compressed apart: the same levels and tolerances, distinct material
-// names; lossless. Throws btf::Error naming what differs.
-VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts);
+// names; lossless. Throws btf::Error naming what differs, and the parts by `labels` (e.g. their
+// files; by position when empty).
+VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const std::string> labels = {});
 
 }  // namespace btf
