@@ -174,6 +174,22 @@ TEST_F(RglTensorBadInput, NanValueIsRejected) {
   EXPECT_NE(m.find("element 77"), std::string::npos) << m;
 }
 
+// The probe's case: 3.4e38 in one rgb entry is a finite float the reader accepts, but the material
+// overflowed to an albedo of inf. The material refuses values beyond the measured range by name.
+TEST_F(RglTensorBadInput, HugeFiniteValueIsRejectedByTheMaterial) {
+  for (const char* field : {"rgb", "ndf"}) {
+    auto b = bytes_;
+    std::uint64_t offset = 0;
+    std::memcpy(&offset, b.data() + header_.at(field).offset_pos, 8);  // little-endian host
+    const float huge = 3.4e38f;
+    std::memcpy(b.data() + offset + 4 * 5, &huge, 4);
+    const fs::path p = write(std::string("huge_") + field + ".bsdf", b);
+    EXPECT_NO_THROW(btf::readTensorFile(p));
+    const std::string m = fileErrorOf([&] { btf::RglBrdf material(p); });
+    EXPECT_NE(m.find("field '" + std::string(field) + "' holds 3.4e+38 at element 5"), std::string::npos) << m;
+  }
+}
+
 TEST_F(RglTensorBadInput, MissingFileNamesThePath) {
   const fs::path p = dir_ / "absent.bsdf";
   const std::string m = fileErrorOf([&] { btf::readTensorFile(p); });

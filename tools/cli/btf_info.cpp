@@ -18,6 +18,7 @@ namespace {
 
 void runFolderInfo(const std::filesystem::path& folder, bool json) {
   const BtfImageFolder btf = BtfImageFolder::open(folder);
+  btf.checkImageHeaders();
   const int views = btf.views().count();
   const std::string ext = btf.imagePath(btf.views().view(0), 0).extension().string();
   const std::optional<BtfTransfer> transfer = btf.transfer();
@@ -29,7 +30,9 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
                                 {"images", views * kBtfDirectionCount},
                                 {"image_type", ext},
                                 {"transfer", transfer ? btfTransferName(*transfer) : "linear (float)"},
-                                {"value_scale", btf.valueScale()}}
+                                {"value_scale", btf.valueScale()},
+                                {"checked", "btf.json, the names and every image's header (size, channels); "
+                                            "not the pixels (btf compress and btf decompress read them)"}}
                      .dump(2)
               << '\n';
     return;
@@ -41,6 +44,7 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
                 *transfer == BtfTransfer::Srgb ? "srgb_to_linear" : "", btf.valueScale());
   else
     std::printf("float images: values are the apparent BRDF (1/sr)\n");
+  std::printf("checked: btf.json, the names and every image's header (size, channels); not the pixels\n");
 }
 
 nlohmann::json sectionList(const std::vector<ContainerSection>& sections) {

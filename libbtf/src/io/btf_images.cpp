@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "btf/core/progress.h"
 #include "btf/io/atomic_file.h"
 #include "btf/io/image.h"
+#include "image_input.h"
 
 namespace btf {
 namespace fs = std::filesystem;
@@ -52,6 +54,19 @@ std::string sizeText(int width, int height) { return std::to_string(width) + " x
 
 // Rethrows the error of the lowest index, so a failing parallel loop reports the same error
 // whatever the thread count.
+// An image of the folder, its header checked against the BTF's size (that of `first`) before any
+// pixel is read.
+std::unique_ptr<OIIO::ImageInput> openBtfImage(const fs::path& path, int width, int height, const fs::path& first) {
+  auto in = openImageInput(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width != width || spec.height != height)
+    throw FileError(path, "is " + sizeText(spec.width, spec.height) + " pixels, but the BTF's images are " +
+                              sizeText(width, height) + " (" + first.filename().string() + ")");
+  if (spec.nchannels < 3)
+    throw FileError(path, "has " + std::to_string(spec.nchannels) + " channel(s), a BTF image needs RGB (3 or more)");
+  return in;
+}
+
 void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
@@ -61,6 +76,7 @@ void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
 struct Sidecar {
   float value_scale = 1.0f;
   std::optional<BtfTransfer> transfer;
+  std::optional<int> width, height, views;  // as recorded by the writer, if present
 };
 
 Sidecar readSidecar(const fs::path& folder) {
@@ -89,6 +105,21 @@ Sidecar readSidecar(const fs::path& folder) {
     if (!transfer) throw FileError(sidecar, "transfer must be \"srgb\" or \"linear\", not " + t.dump());
     result.transfer = transfer;
   }
+  // The facts our writer records for people: not needed to read the images, but a sidecar that
+  // holds them holds them right (a width of 2^63, true or "nan" is a damaged file, not a note).
+  for (const char* key : {"width", "height", "views"}) {
+    if (!doc.contains(key)) continue;
+    const nlohmann::json& v = doc[key];
+    const bool whole = v.is_number_integer() || v.is_number_unsigned();
+    if (!whole || v.get<double>() < 1 || v.get<double>() > (std::string_view(key) == "views" ? 81.0 : 1e6))
+      throw FileError(sidecar, std::string(key) + " must be a whole number from 1 to " +
+                                   (std::string_view(key) == "views" ? "81" : "1000000") + ", not " + v.dump());
+    const std::string_view name(key);
+    (name == "width" ? result.width : name == "height" ? result.height : result.views) = v.get<int>();
+  }
+  for (const char* key : {"format", "source"})
+    if (doc.contains(key) && !doc[key].is_string())
+      throw FileError(sidecar, std::string(key) + " must be a string, not " + doc[key].dump());
   return result;
 }
 
@@ -129,7 +160,11 @@ std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name) {
       while (end > i + 2 && name[end - 1] == '.') --end;  // a separator dot, not a decimal point
       if (end == i + 2) continue;                          // a tag needs its number
       if (angles[t]) throw Error(std::string(file_name) + ": the angle tag '" + std::string(kTags[t]) + "' appears twice");
-      angles[t] = std::stof(name.substr(i + 2, end - i - 2));
+      float angle = 0;
+      if (std::from_chars(name.data() + i + 2, name.data() + end, angle).ec != std::errc())
+        throw Error(std::string(file_name) + ": the angle of tag '" + std::string(kTags[t]) + "' (" +
+                    name.substr(i + 2, end - i - 2) + ") is not a number of degrees");
+      angles[t] = angle;
       any = true;
     }
   }
@@ -230,12 +265,15 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
   result.value_scale_ = sidecar.value_scale;
   result.transfer_override_ = sidecar.transfer;
   const fs::path& first = result.imagePath(result.views_.view(0), 0);
-  auto in = OIIO::ImageInput::open(first.string());
-  if (!in) throw FileError(first, "cannot be read as an image: " + OIIO::geterror());
+  auto in = openImageInput(first);
   result.width_ = in->spec().width;
   result.height_ = in->spec().height;
   result.first_format_ = in->spec().format;
-  if (result.width_ < 1 || result.height_ < 1) throw FileError(first, "image has no pixels");
+  if ((sidecar.width && *sidecar.width != result.width_) || (sidecar.height && *sidecar.height != result.height_))
+    throw FileError(folder / kBtfSidecarName,
+                    "records " + std::to_string(sidecar.width.value_or(result.width_)) + " x " +
+                        std::to_string(sidecar.height.value_or(result.height_)) + " texels, but the images are " +
+                        sizeText(result.width_, result.height_) + " (" + first.filename().string() + ")");
   return result;
 }
 
@@ -266,17 +304,23 @@ const fs::path& BtfImageFolder::imagePath(int view, int light) const {
   return paths_[std::size_t(view * kBtfDirectionCount + light)];  // empty for a view not held
 }
 
+void BtfImageFolder::checkImageHeaders() const {
+  std::vector<std::exception_ptr> errors(paths_.size());
+  tbb::parallel_for(std::size_t(0), paths_.size(), [&](std::size_t k) {
+    if (paths_[k].empty()) return;  // a view not held
+    try {
+      (void)openBtfImage(paths_[k], width_, height_, imagePath(views_.view(0), 0));
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  rethrowFirst(errors);
+}
+
 void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) const {
   const fs::path& path = imagePath(view, light);
-  requireReadableFile(path);
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw FileError(path, "cannot be read as an image (corrupt?): " + OIIO::geterror());
+  auto in = openBtfImage(path, width_, height_, imagePath(views_.view(0), 0));
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width != width_ || spec.height != height_)
-    throw FileError(path, "is " + sizeText(spec.width, spec.height) + " pixels, but the BTF's images are " +
-                              sizeText(width_, height_) + " (" + paths_[0].filename().string() + ")");
-  if (spec.nchannels < 3)
-    throw FileError(path, "has " + std::to_string(spec.nchannels) + " channel(s), a BTF image needs RGB (3 or more)");
   const std::size_t texels = std::size_t(width_) * std::size_t(height_);
   Rgb* dst = out.data() + std::size_t(light) * texels;
   const BtfTransfer transfer = transferOf(spec.format);
@@ -289,7 +333,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
       table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbDecode(e) : e) * value_scale_;
     }
     std::vector<std::uint8_t> codes(texels * 3);
-    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
+    if (!readPixels(*in, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
       throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
     for (std::size_t i = 0; i < texels; ++i)
       dst[i] = Rgb(table[codes[3 * i]], table[codes[3 * i + 1]], table[codes[3 * i + 2]]);
@@ -297,7 +341,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
   }
   std::vector<float> pixels(texels * 3);
   // Channels 0..2 only; integer data arrives as code / max_code.
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
+  if (!readPixels(*in, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
     throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
   const bool is_float = spec.format.is_floating_point();
   const float scale = is_float ? 1.0f : value_scale_;

@@ -9,6 +9,7 @@
 
 #include "btf/core/error.h"
 #include "btf/io/atomic_file.h"
+#include "image_input.h"
 
 namespace btf {
 namespace fs = std::filesystem;
@@ -48,21 +49,11 @@ bool isUserAttribute(const std::string& name) {
          name != "ResolutionUnit" && name != "DateTime" && name != "Software";
 }
 
-std::unique_ptr<OIIO::ImageInput> openForReading(const fs::path& path) {
-  requireReadableFile(path);
-  std::error_code ec;
-  if (fs::file_size(path, ec) == 0 && !ec) throw FileError(path, "empty file, expected an image");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw FileError(path, "cannot be read as an image: " + OIIO::geterror());
-  return in;
-}
-
 Image readCurrentSubimage(const fs::path& path, OIIO::ImageInput& in, int subimage) {
   const OIIO::ImageSpec& spec = in.spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw FileError(path, "image has no pixels");
+  requireImageSizeWithinLimits(path, spec);
   Image image(spec.width, spec.height, spec.nchannels);
-  if (!in.read_image(subimage, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+  if (!readPixels(in, subimage, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
     throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in.geterror());
   return image;
 }
@@ -84,7 +75,7 @@ void writeImage(const fs::path& path, const Image& image) {
 }
 
 Image readImage(const fs::path& path) {
-  auto in = openForReading(path);
+  auto in = openImageInput(path);
   return readCurrentSubimage(path, *in, 0);
 }
 
@@ -138,7 +129,7 @@ void writeImageStack(const fs::path& path, const std::vector<StackLayer>& layers
 }
 
 std::vector<StackLayer> readImageStack(const fs::path& path) {
-  auto in = openForReading(path);
+  auto in = openImageInput(path);
   const int count = std::max(1, in->spec().get_int_attribute("oiio:subimages", 1));
   std::vector<StackLayer> layers;
   for (int s = 0; s < count; ++s) {

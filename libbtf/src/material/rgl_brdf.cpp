@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <span>
 
 #include "btf/core/error.h"
@@ -29,7 +30,24 @@ float unitToSolidAngleJacobian(float u_x, float sin_theta_m) {
   return std::max(2.0f * kPi * kPi * u_x * sin_theta_m, 1e-6f);
 }
 
-std::vector<float> floatsOf(const TensorField& field) { return field.toFloats(); }
+// The range of every table's values. Finite floats beyond it pass the reader's NaN check but
+// overflow once multiplied (rgb x ndf / sigma) or summed by the warps: 3.4e38 in one rgb entry
+// gave an albedo of inf. No measured quantity comes near; sigma (a projected area, about 1) may
+// not come near 0 either.
+constexpr float kMaxMagnitude = 1e10f;
+constexpr float kMinSigma = 1e-10f;
+
+std::vector<float> floatsOf(const TensorFile& file, const TensorField& field) {
+  std::vector<float> values = field.toFloats();
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!(std::abs(values[i]) <= kMaxMagnitude)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "field '%s' holds %g at element %zu, beyond the range of measured values (|value| <= %g)",
+                    field.name.c_str(), double(values[i]), i, double(kMaxMagnitude));
+      throw FileError(file.path, text);
+    }
+  return values;
+}
 
 }  // namespace
 
@@ -45,7 +63,7 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
     throw FileError(path, "anisotropic RGL file (phi_i has " + std::to_string(phi_i.shape[0]) +
                               " values): only isotropic files (one phi_i) are supported");
   const TensorField& theta_i = file.require("theta_i", TensorDtype::Float32, {-1});
-  theta_o_ = floatsOf(theta_i);
+  theta_o_ = floatsOf(file, theta_i);
   const auto n_theta = static_cast<std::int64_t>(theta_o_.size());
   if (n_theta < 2) throw FileError(path, "field 'theta_i' needs at least 2 values");
   for (std::size_t k = 0; k < theta_o_.size(); ++k)
@@ -66,10 +84,10 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
     description_ = d->toText();
   }
 
-  const std::vector<float> sigma_values = floatsOf(sigma);
+  const std::vector<float> sigma_values = floatsOf(file, sigma);
   for (const float s : sigma_values)
-    if (!(s > 0.0f)) throw FileError(path, "field 'sigma' (projected area) holds a value <= 0");
-  const std::vector<float> ndf_values = floatsOf(ndf);
+    if (!(s >= kMinSigma)) throw FileError(path, "field 'sigma' (projected area) holds a value <= 0 or below 1e-10");
+  const std::vector<float> ndf_values = floatsOf(file, ndf);
   for (const float d : ndf_values)
     if (d < 0.0f) throw FileError(path, "field 'ndf' holds a negative value");
 
@@ -78,7 +96,7 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
   auto build = [&](const char* name, const TensorField& field, int w, int h, std::vector<std::vector<float>> params,
                    BilinearWarp2D::Mode mode) {
     try {
-      return BilinearWarp2D(w, h, floatsOf(field), std::move(params), mode);
+      return BilinearWarp2D(w, h, floatsOf(file, field), std::move(params), mode);
     } catch (const FileError&) {
       throw;
     } catch (const Error& e) {

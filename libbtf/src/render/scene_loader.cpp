@@ -486,7 +486,7 @@ SceneDescription loadSceneDescription(const std::filesystem::path& file, const S
   json document;
   try {
     document = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers beyond a double
     throw FileError(file, std::string("malformed JSON: ") + e.what());
   }
   const Node root(document, "", file);

@@ -75,6 +75,8 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
     int size = 0;        // bytes of a scalar, or of a list's items
     int count_size = 0;  // bytes of a list's count; 0 for a scalar
     bool count_signed = false;
+    std::string name;
+    bool item_signed = false, item_integer = true;  // of a list's items
   };
   struct Element {
     std::string name;
@@ -126,10 +128,14 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
         p.count_size = typeSize(count_type);
         p.count_signed = count_type == "char" || count_type == "short" || count_type.rfind("int", 0) == 0;
         p.size = typeSize(item_type);
+        p.item_signed = item_type == "char" || item_type == "short" || item_type.rfind("int", 0) == 0;
+        p.item_integer = item_type.find("float") == std::string::npos && item_type != "double";
+        words >> p.name;
         if (p.count_size == 0 || count_type.find("float") != std::string::npos || count_type == "double")
           fail("malformed PLY header line '" + line + "'");
       } else {
         p.size = typeSize(type);
+        words >> p.name;
       }
       if (p.size == 0) fail("malformed PLY header line '" + line + "'");
       elements.back().properties.push_back(p);
@@ -142,6 +148,14 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
   const bool ascii = format == "ascii";
   const bool big_endian = format == "binary_big_endian";
   if (!ascii && !big_endian && format != "binary_little_endian") fail("unknown PLY format '" + format + "'");
+  // Vertices need positions: Assimp reads a vertex element without x, y or z into a mesh that its
+  // triangulation then aborts on (an assertion, not an error).
+  for (const Element& e : elements) {
+    if (e.name != "vertex" || e.count == 0) continue;
+    for (const char* axis : {"x", "y", "z"})
+      if (std::none_of(e.properties.begin(), e.properties.end(), [&](const Property& p) { return p.name == axis && p.count_size == 0; }))
+        fail(std::string("PLY vertices without the position property '") + axis + "'");
+  }
 
   // The body. Every element instance with a property takes at least one byte or one word, so the
   // walk ends within the file's size whatever counts the header declares.
@@ -169,6 +183,23 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
     const bool negative = p.count_signed && (raw[p.count_size - 1] & 0x80u);
     return negative ? -1.0 : double(u);
   };
+  // Face lists must index existing vertices and hold 3 or more: Assimp drops the indices past the
+  // vertex list, and its triangulation aborts (an assertion) on faces of fewer than 3.
+  unsigned long long vertex_count = 0;
+  for (const Element& e : elements)
+    if (e.name == "vertex") vertex_count = e.count;
+  auto indexes_vertices = [](const Element& e, const Property& p) {
+    return e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+  };
+  auto checkIndex = [&](double index, const Element& e, unsigned long long i) {
+    if (!(index >= 0) || index != std::floor(index) || index >= double(vertex_count))
+      fail("PLY " + e.name + " " + std::to_string(i) + ": vertex index " + std::to_string(static_cast<long long>(index)) +
+           " out of range (there are " + std::to_string(vertex_count) + " vertices)");
+  };
+  auto checkFaceSize = [&](double n, const Element& e, unsigned long long i) {
+    if (n < 3) fail("PLY " + e.name + " " + std::to_string(i) + " has " + std::to_string(static_cast<long long>(n)) +
+                    " vertices (a face needs 3 or more)");
+  };
   for (const Element& e : elements) {
     if (e.properties.empty()) continue;
     for (unsigned long long i = 0; i < e.count; ++i)
@@ -178,17 +209,32 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
           if (!nextWord(n)) truncated(e, i);
           if (p.count_size > 0) {
             if (!(n >= 0) || n != std::floor(n)) fail("malformed PLY data: a list of " + std::to_string(n) + " items");
-            for (double k = 0, v = 0; k < n; ++k)
+            if (indexes_vertices(e, p)) checkFaceSize(n, e, i);
+            for (double k = 0, v = 0; k < n; ++k) {
               if (!nextWord(v)) truncated(e, i);
+              if (indexes_vertices(e, p)) checkIndex(v, e, i);
+            }
           }
         } else {
           if (p.count_size > 0) {
             if (end - at < p.count_size) truncated(e, i);
             n = readCount(p);
             if (n < 0) fail("malformed PLY data: a list of negative length");
+            if (indexes_vertices(e, p)) checkFaceSize(n, e, i);
           }
           if (double(end - at) < n * p.size) truncated(e, i);
-          at += std::ptrdiff_t(n) * p.size;
+          if (p.count_size > 0 && p.item_integer && indexes_vertices(e, p))
+            for (double k = 0; k < n; ++k) {
+              unsigned char raw[4] = {};
+              for (int b = 0; b < p.size && b < 4; ++b) raw[big_endian ? p.size - 1 - b : b] = static_cast<unsigned char>(at[b]);
+              std::uint32_t u = 0;
+              for (int b = std::min(p.size, 4) - 1; b >= 0; --b) u = (u << 8) | raw[b];
+              const bool negative = p.item_signed && (raw[std::min(p.size, 4) - 1] & 0x80u);
+              checkIndex(negative ? -1.0 : double(u), e, i);
+              at += p.size;
+            }
+          else
+            at += std::ptrdiff_t(n) * p.size;
         }
       }
   }

@@ -55,8 +55,8 @@ constexpr std::array<double, 5> kGaussWeights{0.2369268850561891, 0.478628670499
 // missed this way still cost 2e-4 of a sharp cell's count); not on the border itself, where float
 // rounding of the direction would often land across a jump that coincides with the border.
 constexpr double kBorderProbe = 1.0 - 1e-6;
-constexpr std::array<double, 7> kProbes{-kBorderProbe,       -0.9061798459386640, -0.5384693101056831, 0.0,
-                                        0.5384693101056831,  0.9061798459386640,  kBorderProbe};
+constexpr std::array<double, 7> kProbes{-kBorderProbe,  kGaussNodes[0], kGaussNodes[1], kGaussNodes[2],
+                                        kGaussNodes[3], kGaussNodes[4], kBorderProbe};
 constexpr int kMinDepth = 3;         // every cell is split into at least 8 x 8 rectangles
 constexpr int kMaxQuarterDepth = 8;  // quarters: cell / 256, lobes far narrower than alpha = 0.02
 constexpr int kMaxDepth = 30;        // halvings along a jump line: cell / 2^30, below float resolution

@@ -78,6 +78,11 @@ class BtfImageFolder final : public BtfSource {
   // with NaN, infinite or negative values.
   void loadView(int view, std::vector<Rgb>& out) const override;
 
+  // Opens every image's header, not its pixels: FileError naming the first image that is missing,
+  // empty, unreadable, of another size than the first or with fewer than 3 channels. What `btf
+  // info` checks; loadView checks the same, and the pixels.
+  void checkImageHeaders() const;
+
   const std::filesystem::path& folder() const { return folder_; }
   const std::filesystem::path& imagePath(int view, int light) const;
   float valueScale() const { return value_scale_; }

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -43,6 +44,17 @@ void writeImage(const std::filesystem::path& path, const Image& image);
 
 // Reads any format OpenImageIO knows, converted to float (8-bit data maps to [0, 1]).
 Image readImage(const std::filesystem::path& path);
+
+// What every image reader of libbtf (readImage, readImageStack, image-folder BTFs) accepts: a
+// header claiming more is refused with a FileError before any pixel is allocated, so that a corrupt
+// file cannot exhaust memory. The defaults bound one RGB float image at 0.8 GB; raise them
+// (process-wide; `btf --max-image-pixels`) for larger real images.
+struct ImageSizeLimits {
+  int max_side = 65536;                               // pixels per side
+  std::uint64_t max_pixels = std::uint64_t(1) << 26;  // width x height (8192 x 8192)
+};
+void setImageSizeLimits(const ImageSizeLimits& limits);
+ImageSizeLimits imageSizeLimits();
 
 // The sRGB transfer curves (IEC 61966-2-1): encoding a linear value in [0, 1] (clamped; 12.92 x
 // below 0.0031308, 1.055 x^(1/2.4) - 0.055 above) and decoding an encoded one in [0, 1] (clamped).

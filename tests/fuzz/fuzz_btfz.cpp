@@ -1,0 +1,25 @@
+// .btfz files: the container (section table, zstd payloads, CRCs) and the VQ payload, single
+// materials and databases alike. VqDatabase::read lists the materials; VqBtf::read decodes each as
+// `btf decompress --material` and scenes do; then every material is looked up one by one and as a
+// stream, and evaluated and sampled as a BtfMaterial.
+#include <memory>
+
+#include "btf/compress/vq_btf.h"
+#include "btf/compress/vq_database.h"
+#include "btf/material/btf_material.h"
+#include "fuzz_support.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto path = btf::fuzz::writeInput({data, size}, "input.btfz");
+  btf::fuzz::acceptingFileErrors([&] {
+    auto btf = std::make_shared<const btf::VqBtf>(btf::VqBtf::read(path));
+    btf::fuzz::exerciseLookup(*btf);
+    btf::fuzz::acceptingFileErrors([&] { btf::fuzz::exerciseMaterial(btf::BtfMaterial(btf)); });
+  });
+  btf::fuzz::acceptingFileErrors([&] {
+    const btf::VqDatabase database = btf::VqDatabase::read(path);
+    for (const std::string& name : database.names())
+      btf::fuzz::exerciseLookup(btf::VqBtf::read(path, name));
+  });
+  return 0;
+}

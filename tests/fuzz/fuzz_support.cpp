@@ -1,0 +1,135 @@
+#include "fuzz_support.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "btf/core/btf_directions.h"
+#include "btf/io/btf_data.h"
+#include "btf/io/btf_images.h"
+#include "btf/material/material.h"
+
+namespace btf::fuzz {
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path& privateFolder() {
+  static const fs::path folder = [] {
+    std::error_code ec;
+    const fs::path base = fs::is_directory("/dev/shm", ec) ? fs::path("/dev/shm") : fs::temp_directory_path();
+    fs::path dir = base / ("libbtf-fuzz-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::atexit([] {
+      std::error_code ignored;
+      fs::remove_all(privateFolder(), ignored);
+    });
+    return dir;
+  }();
+  return folder;
+}
+
+[[noreturn]] void finding(const char* what) {
+  std::fprintf(stderr, "fuzz finding: %s\n", what);
+  std::abort();
+}
+
+bool usable(const Rgb& v) {
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(v[c]) || v[c] < 0) return false;
+  return true;
+}
+
+glm::vec3 direction(float theta_deg, float phi_deg) {
+  const float t = glm::radians(theta_deg), p = glm::radians(phi_deg);
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+}  // namespace
+
+void writeFile(const fs::path& path, std::span<const std::uint8_t> bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out) finding("cannot write the input file (is the temporary folder full?)");
+}
+
+fs::path writeInput(std::span<const std::uint8_t> bytes, std::string_view file_name) {
+  const fs::path path = privateFolder() / file_name;
+  writeFile(path, bytes);
+  return path;
+}
+
+fs::path emptyFolder(std::string_view name) {
+  const fs::path folder = privateFolder() / name;
+  std::error_code ec;
+  fs::remove_all(folder, ec);
+  fs::create_directories(folder);
+  return folder;
+}
+
+fs::path writeSmallBtfFolder(bool exr) {
+  const auto format = exr ? BtfImageFormat::Exr : BtfImageFormat::Png8;
+  const fs::path folder = emptyFolder("btf-" + btfImageFormatName(format));
+  BtfData data(2, 2, "fuzz", BtfViewSet({0}));
+  for (int light = 0; light < kBtfDirectionCount; ++light)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) data.at(x, y, 0, light) = Rgb(0.1f * float(1 + x + 2 * y), 0.2f, 0.3f);
+  BtfImageWriteOptions options;
+  options.format = format;
+  writeBtfImageFolder(data, folder, options);
+  return folder;
+}
+
+void exerciseMaterial(const Material& material) {
+  // Normal incidence, the measured range and grazing angles (89.9 degrees: where tables' last bins
+  // and 1 / cos factors live), in several azimuths so that anisotropic tables are read everywhere.
+  const float thetas[] = {0.f, 30.f, 60.f, 80.f, 89.9f};
+  const float phis[] = {0.f, 95.f, 180.f, 300.f};
+  const glm::vec2 us[] = {{0.5f, 0.5f}, {0.01f, 0.99f}, {0.999f, 0.001f}};
+  for (float to : thetas)
+    for (float po : phis) {
+      const glm::vec3 wo = direction(to, po);
+      for (float ti : thetas) {
+        const glm::vec3 wi = direction(ti, po + 170.f);
+        if (!usable(material.eval(wi, wo))) finding("eval() is negative or not finite");
+        const float pdf = material.pdf(wi, wo);
+        if (!std::isfinite(pdf) || pdf < 0) finding("pdf() is negative or not finite");
+      }
+      for (glm::vec2 u : us) {
+        const auto s = material.sample(wo, {0.5f, 0.5f}, u);
+        if (!s) continue;
+        if (!usable(s->weight) || !std::isfinite(s->pdf) || s->pdf < 0) finding("sample() weight or pdf unusable");
+        if (!std::isfinite(s->wi.x) || std::abs(glm::length(s->wi) - 1.f) > 1e-3f) finding("sample() wi not a unit vector");
+      }
+    }
+}
+
+void exerciseLookup(const BtfLookup& btf) {
+  const int w = btf.lookupWidth(), h = btf.lookupHeight();
+  if (w < 1 || h < 1) finding("a BTF of no texels loaded");
+  const int xs[] = {0, w / 2, w - 1}, ys[] = {0, h / 2, h - 1};
+  const int lights[] = {0, 1, 40, kBtfDirectionCount - 1};
+  std::vector<BtfSampleIndex> samples;
+  for (int view : btf.lookupViews().views())
+    for (int light : lights)
+      for (int y : ys)
+        for (int x : xs) samples.push_back({x, y, view, light});
+  std::vector<Rgb> streamed(samples.size());
+  btf.values(samples, streamed);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Rgb one = btf.value(samples[i].x, samples[i].y, samples[i].view, samples[i].light);
+    for (int c = 0; c < 3; ++c) {
+      if (!std::isfinite(one[c])) finding("value() is not finite");
+      if (one[c] != streamed[i][c]) finding("values() differs from value()");
+    }
+  }
+}
+
+}  // namespace btf::fuzz

@@ -1,0 +1,271 @@
+// Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/): small valid files of
+// every kind, made by libbtf's own writers at reduced sizes where the format allows (and by the
+// small tensor_file writer below, as libbtf reads RGL files but does not write them), plus the
+// bad-input cases of the command-line tests. Nothing third-party. Built with the fuzz targets;
+// run by `tools/fuzz/run.sh --make-corpus`.
+//   make_corpus OUT_FOLDER
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "btf/compress/vq_btf.h"
+#include "btf/compress/vq_database.h"
+#include "btf/core/btf_directions.h"
+#include "btf/io/btf_data.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/image.h"
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<std::uint8_t>;
+
+namespace {
+
+void put(const fs::path& path, const Bytes& bytes) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+void put(const fs::path& path, const std::string& text) { put(path, Bytes(text.begin(), text.end())); }
+Bytes bytesOf(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return Bytes(std::istreambuf_iterator<char>(in), {});
+}
+Bytes prefix(const Bytes& bytes, std::size_t n) { return Bytes(bytes.begin(), bytes.begin() + std::ptrdiff_t(std::min(n, bytes.size()))); }
+template <class T>
+void append(Bytes& out, T value) {
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
+  out.insert(out.end(), p, p + sizeof value);
+}
+
+// A smooth, coloured BTF: a diffuse term and a lobe around the mirror direction, varying per texel.
+btf::BtfData makeBtf(int width, int height, btf::BtfViewSet views, const char* name) {
+  btf::BtfData data(width, height, name, views);
+  for (int view : data.views().views())
+    for (int light = 0; light < btf::kBtfDirectionCount; ++light) {
+      const btf::BtfDirection& v = btf::btfDirections()[std::size_t(view)];
+      const btf::BtfDirection& l = btf::btfDirections()[std::size_t(light)];
+      const glm::vec3 mirror(-l.w.x, -l.w.y, l.w.z);
+      const float lobe = std::pow(std::max(0.0f, glm::dot(v.w, mirror)), 8.0f);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const float t = 0.2f + 0.1f * float((x + 2 * y) % 3);
+          data.at(x, y, view, light) = btf::Rgb(t + lobe, 0.8f * t + lobe, 0.5f * t + 0.5f * lobe);
+        }
+    }
+  return data;
+}
+
+// MERL .binary: a valid table is 33 MB, too large for a seed; the header and the failures around it.
+void merl(const fs::path& out) {
+  Bytes header;
+  for (std::int32_t d : {90, 90, 180}) append(header, d);
+  put(out / "empty.binary", Bytes{});
+  put(out / "header-only.binary", header);
+  Bytes values = header;
+  for (double v : {0.1, 0.2, -0.0, 1e-3, 7.5}) append(values, v);
+  put(out / "truncated.binary", values);
+  Bytes wrong;
+  for (std::int32_t d : {180, 90, 90}) append(wrong, d);
+  put(out / "wrong-dims.binary", wrong);
+  put(out / "short-header.binary", prefix(header, 7));
+}
+
+// tensor_file (Mitsuba's format of the RGL files): magic, version 1.0, field count, then per field
+// name, rank, dtype code, offset and shape; the data after the header.
+struct TensorSeedField {
+  std::string name;
+  std::uint8_t dtype;  // 1 u8, 10 f32
+  std::vector<std::uint64_t> shape;
+  Bytes data;
+};
+Bytes tensorFile(const std::vector<TensorSeedField>& fields) {
+  Bytes header(std::begin("tensor_file"), std::end("tensor_file"));  // with its NUL
+  header.push_back(1);
+  header.push_back(0);
+  append(header, std::uint32_t(fields.size()));
+  std::size_t header_size = header.size();
+  for (const auto& f : fields) header_size += 2 + f.name.size() + 2 + 1 + 8 + 8 * f.shape.size();
+  std::uint64_t offset = header_size;
+  Bytes data;
+  for (const auto& f : fields) {
+    append(header, std::uint16_t(f.name.size()));
+    header.insert(header.end(), f.name.begin(), f.name.end());
+    append(header, std::uint16_t(f.shape.size()));
+    header.push_back(f.dtype);
+    append(header, offset);
+    for (std::uint64_t e : f.shape) append(header, e);
+    data.insert(data.end(), f.data.begin(), f.data.end());
+    offset += f.data.size();
+  }
+  header.insert(header.end(), data.begin(), data.end());
+  return header;
+}
+Bytes floats(std::size_t n, float base, float step) {
+  Bytes b;
+  for (std::size_t i = 0; i < n; ++i) append(b, base + step * float(i % 7));
+  return b;
+}
+
+void rgl(const fs::path& out) {
+  // A tiny isotropic RGB material: 2 incidence angles, 4 x 4 tables (the real files hold 32 x 32).
+  const std::uint64_t nt = 2, r = 4;
+  std::vector<TensorSeedField> fields = {
+      {"description", 1, {5}, Bytes{'s', 'e', 'e', 'd', 0}},
+      {"jacobian", 1, {1}, Bytes{1}},
+      {"phi_i", 10, {1}, floats(1, 0.0f, 0.0f)},
+      {"theta_i", 10, {nt}, [] { Bytes b; append(b, 0.0f); append(b, 1.2f); return b; }()},
+      {"ndf", 10, {r, r}, floats(r * r, 0.5f, 0.1f)},
+      {"sigma", 10, {r, r}, floats(r * r, 1.0f, 0.05f)},
+      {"vndf", 10, {1, nt, r, r}, floats(nt * r * r, 0.2f, 0.1f)},
+      {"luminance", 10, {1, nt, r, r}, floats(nt * r * r, 0.3f, 0.05f)},
+      {"rgb", 10, {1, nt, 3, r, r}, floats(nt * 3 * r * r, 0.1f, 0.02f)},
+  };
+  const Bytes valid = tensorFile(fields);
+  put(out / "tiny.bsdf", valid);
+  put(out / "truncated.bsdf", prefix(valid, valid.size() - 40));
+  put(out / "header-cut.bsdf", prefix(valid, 30));
+  fields.pop_back();
+  put(out / "missing-rgb.bsdf", tensorFile(fields));
+  Bytes nan = valid;
+  const float q = std::nanf("");
+  std::memcpy(nan.data() + nan.size() - 8, &q, 4);
+  put(out / "nan.bsdf", nan);
+}
+
+void btfz(const fs::path& out) {
+  const fs::path scratch = out / "scratch.btfz";
+  btf::VqOptions options;
+  options.epsilon = 0.05f;
+  btf::compressVq(makeBtf(2, 2, btf::BtfViewSet({0}), "pole"), options).write(scratch);
+  const Bytes pole = bytesOf(scratch);
+  put(out / "pole-2x2.btfz", pole);
+  put(out / "truncated.btfz", prefix(pole, pole.size() / 2));
+  put(out / "magic-only.btfz", prefix(pole, 8));
+  options.epsilon = 0.2f;
+  btf::compressVq(makeBtf(2, 1, btf::BtfViewSet::upToTheta(30.0f), "rings"), options).write(scratch);
+  put(out / "rings-2x1.btfz", bytesOf(scratch));
+  options.levels = 2;
+  btf::compressVq(makeBtf(1, 2, btf::BtfViewSet({0}), "two-levels"), options).write(scratch);
+  put(out / "two-levels.btfz", bytesOf(scratch));
+  options.levels = 3;
+  const btf::BtfData a = makeBtf(1, 1, btf::BtfViewSet({0}), "a"), b = makeBtf(2, 1, btf::BtfViewSet({0}), "b");
+  const btf::BtfSource* sources[] = {&a, &b};
+  btf::compressVqDatabase(sources, {"a", "b"}, options).write(scratch);
+  put(out / "database.btfz", bytesOf(scratch));
+  fs::remove(scratch);
+}
+
+void btfJson(const fs::path& out) {
+  put(out / "written.json", std::string(R"({"format": "png8", "width": 2, "height": 2, "value_scale": 1.5, "transfer": "srgb", "views": 1, "source": "fuzz"})"));
+  put(out / "linear.json", std::string(R"({"value_scale": 2, "transfer": "linear"})"));
+  put(out / "empty-object.json", std::string("{}"));
+  put(out / "bad-transfer.json", std::string(R"({"transfer": "gamma"})"));
+  put(out / "zero-scale.json", std::string(R"({"value_scale": 0})"));
+  put(out / "not-json.json", std::string("value_scale = 1"));
+  put(out / "image-name.json", std::string("tv030_pv060_tl045_pl120.png"));
+  put(out / "image-name-frame.json", std::string("00012 TL015-pl060.tv000_pv000.exr"));
+}
+
+void btfImage(const fs::path& out) {
+  const fs::path scratch = out / "scratch";
+  btf::BtfData data = makeBtf(2, 2, btf::BtfViewSet({0}), "image");
+  for (auto format : {btf::BtfImageFormat::Exr, btf::BtfImageFormat::Png8}) {
+    btf::BtfImageWriteOptions options;
+    options.format = format;
+    btf::writeBtfImageFolder(data, scratch, options);
+    const std::string name = btf::btfImageName(0, 0, format);
+    const Bytes image = bytesOf(scratch / name);
+    put(out / ("valid" + btf::btfImageExtension(format)), image);
+    put(out / ("truncated" + btf::btfImageExtension(format)), prefix(image, image.size() * 2 / 3));
+    fs::remove_all(scratch);
+  }
+  btf::Image wrong(3, 2, 3);  // another size than the folder's 2 x 2
+  for (float& p : wrong.pixels) p = 0.25f;
+  btf::writeImage(out / "scratch.exr", wrong);
+  put(out / "other-size.exr", bytesOf(out / "scratch.exr"));
+  btf::Image grey(2, 2, 1);
+  btf::writeImage(out / "scratch.exr", grey);
+  put(out / "one-channel.exr", bytesOf(out / "scratch.exr"));
+  fs::remove(out / "scratch.exr");
+}
+
+void exrStack(const fs::path& out) {
+  btf::Image image(3, 2, 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = 0.1f * float(i % 5);
+  std::vector<btf::StackLayer> layers = {{"red", {{"channel", 0}, {"scale", 1.5f}, {"note", std::string("seed")}}, image},
+                                         {"green", {{"channel", 1}}, image}};
+  btf::writeImageStack(out / "stack.exr", layers);
+  btf::writeImage(out / "single.exr", image);
+  const Bytes stack = bytesOf(out / "stack.exr");
+  put(out / "stack-truncated.exr", prefix(stack, stack.size() - 20));
+}
+
+void scene(const fs::path& out) {
+  put(out / "lambert-quad.json", std::string(R"({
+  "camera": {"position": [0.5, 0.5, 2], "look_at": [0.5, 0.5, 0], "up": [0, 1, 0], "fov_deg": 40, "resolution": [16, 16]},
+  "render": {"spp": 1, "max_depth": 3, "rr_min_depth": 2},
+  "materials": {"white": {"type": "lambert", "albedo": [0.8, 0.8, 0.8], "sampler": "cosine"}},
+  "shapes": [{"file": "quad.obj", "material": "white", "shading": "flat",
+              "transform": {"scale": 2, "rotate": {"axis": [0, 1, 0], "deg": 30}, "translate": [0, -0.1, 0]}},
+             {"type": "sphere", "center": [0.5, 0.5, 0.3], "radius": 0.2, "material": "white", "emission": [2, 2, 2]}],
+  "lights": [{"type": "point", "position": [0, 0, 1], "intensity": [1, 1, 1]}]
+})"));
+  put(out / "analytic.json", std::string(R"({
+  "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+  "materials": {"g": {"type": "ggx", "alpha": [0.2, 0.1], "f0": [0.9, 0.9, 0.9], "diffuse": [0.1, 0.1, 0.1]},
+                "w": {"type": "ward", "diffuse": [0.1, 0.1, 0.1], "alpha": 0.1, "specular": [0.2, 0.2, 0.2]}, "p": {"type": "phong", "diffuse": [0.3, 0.3, 0.3], "specular": [0.2, 0.2, 0.2], "exponent": 20},
+                "l": {"type": "lafortune", "diffuse": [0.1, 0.1, 0.1], "lobes": [{"c": [-1, -1, 1], "exponent": 10, "rho": [0.5, 0.5, 0.5]}]}},
+  "shapes": [{"type": "quad", "corner": [-1, -1, 0], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "g", "two_sided": true,
+              "emission": [1, 1, 1]},
+             {"type": "sphere", "center": [0, 0, 1], "radius": 0.3, "material": "l"}],
+  "lights": [{"type": "environment", "radiance": [1, 1, 1]}]
+})"));
+  put(out / "empty.json", std::string("{}"));
+  put(out / "missing-file.json", std::string(R"({"camera": {}, "materials": {"m": {"type": "merl", "file": "none.binary"}}, "shapes": []})"));
+}
+
+void mesh(const fs::path& out) {
+  // First byte: even for .obj, odd for .ply (fuzz_mesh.cpp).
+  const std::string obj(1, '\0'), ply(1, '\1');
+  put(out / "quad.obj", obj + "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                              "f 1/1/1 2/2/1 3/3/1 4/4/1\n");
+  put(out / "degenerate.obj", obj + "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 1 2 9\n");
+  put(out / "ascii.ply", ply + std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                     "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  Bytes binary(1, 1);
+  const std::string head = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  binary.insert(binary.end(), head.begin(), head.end());
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(binary, v);
+  binary.push_back(3);
+  for (std::int32_t i : {0, 1, 2}) append(binary, i);
+  put(out / "binary.ply", binary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_corpus OUT_FOLDER (writes OUT_FOLDER/<target>/...)\n");
+    return 2;
+  }
+  const fs::path out = argv[1];
+  for (const char* target : {"fuzz_merl", "fuzz_rgl", "fuzz_btfz", "fuzz_btf_json", "fuzz_btf_image", "fuzz_exr_stack",
+                             "fuzz_scene", "fuzz_mesh"})
+    fs::create_directories(out / target);
+  merl(out / "fuzz_merl");
+  rgl(out / "fuzz_rgl");
+  btfz(out / "fuzz_btfz");
+  btfJson(out / "fuzz_btf_json");
+  btfImage(out / "fuzz_btf_image");
+  exrStack(out / "fuzz_exr_stack");
+  scene(out / "fuzz_scene");
+  mesh(out / "fuzz_mesh");
+  return 0;
+}

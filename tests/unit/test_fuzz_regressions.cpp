@@ -1,0 +1,120 @@
+// Every input a fuzz target (tests/fuzz) found a defect with, kept in its seed corpus as
+// tests/fuzz/corpus/<target>/regression-*, run through the same reader as the target: each must
+// now fail with a FileError naming the file and the problem, not crash, hang or exhaust memory.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "btf/core/error.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/image.h"
+#include "btf/render/scene_loader.h"
+#include "btf/render/triangle_mesh.h"
+#include "support/test_support.h"
+
+namespace btf {
+namespace {
+namespace fs = std::filesystem;
+using testing::HasSubstr;
+
+const fs::path kCorpus = BTF_FUZZ_CORPUS_DIR;
+
+// The reader's message for the input; fails the test when it does not throw a FileError.
+template <class Read>
+std::string fileErrorOf(Read&& read) {
+  try {
+    read();
+  } catch (const FileError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no FileError";
+  return {};
+}
+
+// fuzz_scene: a number beyond a double ("...1e39000...") made nlohmann-json throw out_of_range,
+// which the loader did not catch (std::terminate).
+TEST(FuzzRegressions, SceneNumberBeyondADoubleIsMalformedJson) {
+  const fs::path input = kCorpus / "fuzz_scene" / "regression-number-overflow.json";
+  EXPECT_THAT(fileErrorOf([&] { (void)render::loadSceneDescription(input); }), HasSubstr("malformed JSON"));
+}
+
+// fuzz_mesh: a PLY whose vertices have no x aborted inside Assimp's triangulation (an assertion:
+// `btf render` exited on SIGABRT). The first byte of the input picks the format (odd: PLY).
+TEST(FuzzRegressions, PlyVerticesWithoutAPositionAreRefusedBeforeAssimp) {
+  std::ifstream in(kCorpus / "fuzz_mesh" / "regression-ply-without-x.ply", std::ios::binary);
+  std::string bytes(std::istreambuf_iterator<char>(in), {});
+  ASSERT_FALSE(bytes.empty());
+  test::TempDir dir;
+  const fs::path ply = dir / "mesh.ply";
+  std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
+  EXPECT_THAT(message, HasSubstr(ply.string()));
+  EXPECT_THAT(message, HasSubstr("without the position property 'x'"));
+}
+
+// fuzz_mesh: a binary PLY whose one face lists 0 vertices, which Assimp's triangulation aborted on.
+TEST(FuzzRegressions, PlyFaceOfFewerThanThreeVerticesIsRefused) {
+  std::ifstream in(kCorpus / "fuzz_mesh" / "regression-ply-face-of-0-vertices.ply", std::ios::binary);
+  std::string bytes(std::istreambuf_iterator<char>(in), {});
+  ASSERT_FALSE(bytes.empty());
+  test::TempDir dir;
+  const fs::path ply = dir / "mesh.ply";
+  std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); }), HasSubstr("has 0 vertices (a face needs 3 or more)"));
+}
+
+// fuzz_btf_json: an angle of 74 digits overflowed std::stof, whose std::out_of_range escaped the
+// name parser (std::terminate). The input is parsed as a file name, as the target does.
+TEST(FuzzRegressions, ImageNameWithAnAngleBeyondAFloatIsAnError) {
+  std::ifstream in(kCorpus / "fuzz_btf_json" / "regression-angle-beyond-float.json", std::ios::binary);
+  const std::string name(std::istreambuf_iterator<char>(in), {});
+  ASSERT_FALSE(name.empty());
+  try {
+    (void)parseBtfImageName(name);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("is not a number of degrees"));
+  }
+}
+
+// fuzz_exr_stack: a channel of pixel type 514 in an EXR's channel list, which OpenEXR keeps and
+// OpenImageIO aborts on (an assertion).
+TEST(FuzzRegressions, ExrChannelOfAnUnknownPixelTypeIsRefused) {
+  const fs::path input = kCorpus / "fuzz_exr_stack" / "regression-exr-unknown-pixel-type.exr";
+  EXPECT_THAT(fileErrorOf([&] { (void)readImageStack(input); }), HasSubstr("channel 'G' has the unknown pixel type 514"));
+}
+
+// fuzz_exr_stack (out of memory): the second part's channel list holds fewer bytes of entries
+// than its declared size; OpenEXR reads a channel list by its entries, lost its place in the
+// header and read the following bytes as a string attribute of gigabytes.
+TEST(FuzzRegressions, ExrChannelListNotFillingItsSizeIsRefused) {
+  const fs::path input = kCorpus / "fuzz_exr_stack" / "regression-exr-channel-list-size.exr";
+  const std::string message = fileErrorOf([&] { (void)readImageStack(input); });
+  EXPECT_THAT(message, HasSubstr("corrupt OpenEXR header: attribute 'channels'")) << message;
+}
+
+// fuzz_exr_stack (out of memory): an int attribute declaring 0 bytes; OpenEXR reads an int's 4
+// bytes whatever the declared size, lost its place, and read on as further headers.
+TEST(FuzzRegressions, ExrFixedSizeAttributeOfAnotherSizeIsRefused) {
+  const fs::path input = kCorpus / "fuzz_exr_stack" / "regression-exr-int-of-size-0.exr";
+  EXPECT_THAT(fileErrorOf([&] { (void)readImageStack(input); }),
+              HasSubstr("attribute 'channel' (int) declares 0 bytes, its type holds 4"));
+}
+
+// fuzz_btf_image (out of memory) and fuzz_exr_stack (timeout): EXR headers whose attributes claim
+// 1.6 GB and more in files of a few hundred bytes; OpenEXR 3.1 allocated the claimed size first.
+TEST(FuzzRegressions, ExrAttributesClaimingMoreThanTheFileAreRefused) {
+  for (const fs::path& input : {kCorpus / "fuzz_btf_image" / "regression-exr-string-attribute-1.6gb.exr",
+                               kCorpus / "fuzz_exr_stack" / "regression-exr-attribute-size.exr"}) {
+    const std::string message = fileErrorOf([&] { (void)readImage(input); });
+    EXPECT_THAT(message, HasSubstr("corrupt OpenEXR header")) << input;
+    EXPECT_THAT(message, HasSubstr("beyond the file")) << input;
+  }
+}
+
+}  // namespace
+}  // namespace btf

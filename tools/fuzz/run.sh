@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of every reader (tests/fuzz, clang with ASan + UBSan) and runs each in
+# turn for SECONDS (default 30), then prints executions, coverage and crashes per target.
+#   tools/fuzz/run.sh [SECONDS] [TARGET...]    e.g. tools/fuzz/run.sh 1800 fuzz_btfz
+#   tools/fuzz/run.sh --make-corpus            rewrite the seeds in tests/fuzz/corpus/ (not the regression-* inputs)
+# Seeds are read from tests/fuzz/corpus/<target>/ (committed, never written); what the fuzzer adds
+# goes to build-fuzz/corpus/<target>/ and findings to build-fuzz/findings/<target>/. A finding
+# becomes a regression input in tests/fuzz/corpus/ and a named test of the ordinary suite.
+# BTF_FUZZ_SEED=N fixes libFuzzer's seed (CI uses 1, so that a run is repeatable); by default each
+# run draws its own. Exit status: 0 when no target found anything, 1 otherwise.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+cd "$root"
+build=build-fuzz
+jobs=$(nproc 2>/dev/null || echo 2)
+
+# clang and its libFuzzer runtime (Debian 12: clang 14), plus the library's own dependencies.
+packages=(clang libclang-rt-14-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "== installing ${missing[*]}"
+  sudo=(); [ "$(id -u)" -ne 0 ] && sudo=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# The flags OSS-Fuzz builds with: -O1 and line tables only, so stack traces name lines and the
+# build (every library source, instrumented) stays short.
+echo "== building the fuzz targets in $build (clang, -fsanitize=fuzzer,address,undefined)"
+CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DBTF_BUILD_FUZZERS=ON \
+  -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" >/dev/null
+cmake --build "$build" -j"$jobs"
+
+if [ "${1:-}" = "--make-corpus" ]; then
+  # The seeds are rewritten; the regression inputs (regression-*) are findings, kept as they are.
+  find tests/fuzz/corpus -type f ! -name 'regression-*' -delete 2>/dev/null || true
+  ASAN_OPTIONS=detect_leaks=0 "$build/fuzz/make_corpus" tests/fuzz/corpus
+  find tests/fuzz/corpus -type f | sort
+  exit 0
+fi
+
+seconds=${1:-30}
+shift || true
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  for f in tests/fuzz/fuzz_*.cpp; do
+    t=$(basename "$f" .cpp)
+    [ "$t" = fuzz_support ] || targets+=("$t")
+  done
+fi
+
+# Every input must finish in well under a second (-timeout is the hard bound, under the
+# sanitizers) and within 2 GB; no image beyond libbtf's default size limit (0.8 GB) needs more.
+export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0
+status=0
+summary=()
+for t in "${targets[@]}"; do
+  work=$build/corpus/$t findings=$build/findings/$t log=$build/logs/$t.log
+  mkdir -p "$work" "$findings" "$build/logs"
+  options=(); [ -f "tests/fuzz/dict/$t.dict" ] && options=(-dict="tests/fuzz/dict/$t.dict")
+  [ -n "${BTF_FUZZ_SEED:-}" ] && options+=(-seed="$BTF_FUZZ_SEED")
+  echo "== $t: ${seconds} s"
+  set +e
+  "$build/fuzz/$t" "$work" "tests/fuzz/corpus/$t" "${options[@]}" -max_total_time="$seconds" -timeout=2 \
+    -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 -artifact_prefix="$findings/" >"$log" 2>&1
+  rc=$?
+  set -e
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1)
+  found=$(find "$findings" -type f | wc -l)
+  line=$(printf '%-16s %10s execs %7s/s  %-22s %s finding(s)' "$t" "${execs:-?}" "${rate:-?}" "${cov:-cov: ?}" "$found")
+  summary+=("$line")
+  if [ "$rc" -ne 0 ] || [ "$found" -ne 0 ]; then
+    status=1
+    echo "   FOUND: see $log and $findings/" >&2
+    grep -E "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log" | head -5 >&2 || true
+  fi
+done
+echo "== fuzzing summary (${seconds} s per target)"
+printf '%s\n' "${summary[@]}"
+exit $status
