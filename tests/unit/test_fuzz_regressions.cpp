@@ -23,6 +23,22 @@ using testing::HasSubstr;
 
 const fs::path kCorpus = BTF_FUZZ_CORPUS_DIR;
 
+// The bytes of a corpus input, as the fuzz target received them.
+std::string corpusBytes(const fs::path& input) {
+  std::ifstream in(kCorpus / input, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// fuzz_mesh's first input byte picks the format (odd: PLY); the rest is the file, written here as
+// dir/mesh.ply the way the target writes it.
+fs::path writeMeshInputAsPly(const fs::path& input, const fs::path& dir) {
+  const std::string bytes = corpusBytes(input);
+  EXPECT_FALSE(bytes.empty()) << input;
+  const fs::path ply = dir / "mesh.ply";
+  if (!bytes.empty()) std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  return ply;
+}
+
 // The reader's message for the input; fails the test when it does not throw a FileError.
 template <class Read>
 std::string fileErrorOf(Read&& read) {
@@ -45,12 +61,8 @@ TEST(FuzzRegressions, SceneNumberBeyondADoubleIsMalformedJson) {
 // fuzz_mesh: a PLY whose vertices have no x aborted inside Assimp's triangulation (an assertion:
 // `btf render` exited on SIGABRT). The first byte of the input picks the format (odd: PLY).
 TEST(FuzzRegressions, PlyVerticesWithoutAPositionAreRefusedBeforeAssimp) {
-  std::ifstream in(kCorpus / "fuzz_mesh" / "regression-ply-without-x.ply", std::ios::binary);
-  std::string bytes(std::istreambuf_iterator<char>(in), {});
-  ASSERT_FALSE(bytes.empty());
   test::TempDir dir;
-  const fs::path ply = dir / "mesh.ply";
-  std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-without-x.ply", dir.path());
   const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
   EXPECT_THAT(message, HasSubstr(ply.string()));
   EXPECT_THAT(message, HasSubstr("without the position property 'x'"));
@@ -58,20 +70,15 @@ TEST(FuzzRegressions, PlyVerticesWithoutAPositionAreRefusedBeforeAssimp) {
 
 // fuzz_mesh: a binary PLY whose one face lists 0 vertices, which Assimp's triangulation aborted on.
 TEST(FuzzRegressions, PlyFaceOfFewerThanThreeVerticesIsRefused) {
-  std::ifstream in(kCorpus / "fuzz_mesh" / "regression-ply-face-of-0-vertices.ply", std::ios::binary);
-  std::string bytes(std::istreambuf_iterator<char>(in), {});
-  ASSERT_FALSE(bytes.empty());
   test::TempDir dir;
-  const fs::path ply = dir / "mesh.ply";
-  std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-face-of-0-vertices.ply", dir.path());
   EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); }), HasSubstr("has 0 vertices (a face needs 3 or more)"));
 }
 
 // fuzz_btf_json: an angle of 74 digits overflowed std::stof, whose std::out_of_range escaped the
 // name parser (std::terminate). The input is parsed as a file name, as the target does.
 TEST(FuzzRegressions, ImageNameWithAnAngleBeyondAFloatIsAnError) {
-  std::ifstream in(kCorpus / "fuzz_btf_json" / "regression-angle-beyond-float.json", std::ios::binary);
-  const std::string name(std::istreambuf_iterator<char>(in), {});
+  const std::string name = corpusBytes("fuzz_btf_json/regression-angle-beyond-float.json");
   ASSERT_FALSE(name.empty());
   try {
     (void)parseBtfImageName(name);

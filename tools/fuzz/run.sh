@@ -14,8 +14,10 @@ cd "$root"
 build=build-fuzz
 jobs=$(nproc 2>/dev/null || echo 2)
 
-# clang and its libFuzzer runtime (Debian 12: clang 14), plus the library's own dependencies.
-packages=(clang libclang-rt-14-dev)
+# clang and its libFuzzer runtime (Debian 12: clang 14), and llvm-14 for llvm-symbolizer: without
+# it a finding's stack names no function, and the LeakSanitizer suppressions (which match function
+# names) match nothing. The library's own dependencies come from tools/setup/run.sh.
+packages=(clang libclang-rt-14-dev llvm-14)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -55,6 +57,7 @@ fi
 
 # Every input must finish in well under a second (-timeout is the hard bound, under the
 # sanitizers) and within 2 GB; no image beyond libbtf's default size limit (0.8 GB) needs more.
+export PATH=/usr/lib/llvm-14/bin:$PATH  # llvm-symbolizer, found by the sanitizers on PATH
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0
@@ -71,16 +74,24 @@ for t in "${targets[@]}"; do
     -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 -artifact_prefix="$findings/" >"$log" 2>&1
   rc=$?
   set -e
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1)
+  # A target that dies before its first input prints none of these: each read tolerates that
+  # (pipefail) so that the summary still names the target and its log.
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1 || true)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1 || true)
+  cov=$({ grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" || true; } | tail -1)
   found=$(find "$findings" -type f | wc -l)
   line=$(printf '%-16s %10s execs %7s/s  %-22s %s finding(s)' "$t" "${execs:-?}" "${rate:-?}" "${cov:-cov: ?}" "$found")
   summary+=("$line")
   if [ "$rc" -ne 0 ] || [ "$found" -ne 0 ]; then
     status=1
-    echo "   FOUND: see $log and $findings/" >&2
-    grep -E "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log" | head -5 >&2 || true
+    echo "   FAILED (exit $rc): see $log and $findings/" >&2
+    # The lines that say why, or the log's end when none of them is there (a target that could
+    # not start at all).
+    if grep -qE "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log"; then
+      grep -E "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log" | head -5 >&2
+    else
+      tail -15 "$log" >&2
+    fi
   fi
 done
 echo "== fuzzing summary (${seconds} s per target)"
