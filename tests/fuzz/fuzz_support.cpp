@@ -14,6 +14,7 @@
 #include "btf/core/btf_directions.h"
 #include "btf/io/btf_data.h"
 #include "btf/io/btf_images.h"
+#include "btf/io/image.h"
 #include "btf/material/material.h"
 
 namespace btf::fuzz {
@@ -23,6 +24,12 @@ namespace {
 
 const fs::path& privateFolder() {
   static const fs::path folder = [] {
+    // Image size limits of a fuzzing session (1 megapixel, 4096 per side), set before the first
+    // input as OSS-Fuzz's image targets limit theirs: within libbtf's default limits (2^26
+    // pixels) a valid input of the fuzzer's 16 KB decodes to millions of pixels (deflate reaches
+    // about 1000:1), seconds under the sanitizers, which the 2 s timeout would report as a hang.
+    // What is tested is that the limit holds and that everything within it is read quickly.
+    setImageSizeLimits({4096, std::uint64_t(1) << 20});
     std::error_code ec;
     const fs::path base = fs::is_directory("/dev/shm", ec) ? fs::path("/dev/shm") : fs::temp_directory_path();
     fs::path dir = base / ("libbtf-fuzz-" + std::to_string(::getpid()));

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -48,6 +50,30 @@ TEST_F(ImageSizeLimitsTest, AnImageBeyondTheLimitsIsRefusedAndOneWithinIsRead) {
   setImageSizeLimits({8, 48});
   EXPECT_EQ(readImage(path).pixels.size(), 8u * 6u * 3u);
   EXPECT_THROW(setImageSizeLimits({0, 10}), Error);
+}
+
+// readPixels decodes the first tile before it allocates the image; a tiled EXR (written here with
+// OpenImageIO, as libbtf writes scanlines only) must still arrive whole, edge tiles included.
+TEST(ImageReading, ATiledExrIsReadWhole) {
+  test::TempDir dir;
+  const fs::path path = dir / "tiled.exr";
+  const int width = 40, height = 23, channels = 3;
+  std::vector<float> values(std::size_t(width) * height * channels);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(i) * 0.25f;
+  {
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
+    spec.tile_width = spec.tile_height = 16;
+    ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, values.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+  }
+  const Image image = readImage(path);
+  ASSERT_EQ(image.width, width);
+  ASSERT_EQ(image.height, height);
+  ASSERT_EQ(image.channels, channels);
+  EXPECT_EQ(image.pixels, values);
 }
 
 // The probe's case: an EXR of a BTF folder whose header claims 5,963,780 x 4 pixels. OpenEXR's

@@ -7,7 +7,8 @@
 # goes to build-fuzz/corpus/<target>/ and findings to build-fuzz/findings/<target>/. A finding
 # becomes a regression input in tests/fuzz/corpus/ and a named test of the ordinary suite.
 # BTF_FUZZ_SEED=N fixes libFuzzer's seed (CI uses 1, so that a run is repeatable); by default each
-# run draws its own. Exit status: 0 when no target found anything, 1 otherwise.
+# run draws its own. BTF_FUZZ_RUNS=N also stops a target after N executions (the long campaign:
+# 10 million executions or SECONDS, whichever comes first). Exit status: 0 when no target found anything, 1 otherwise.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$root"
@@ -63,11 +64,14 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0
 status=0
 summary=()
+# Findings of earlier runs stay in $build/findings for a look; only this run's are counted.
+stamp=$(mktemp); trap 'rm -f "$stamp"' EXIT
 for t in "${targets[@]}"; do
   work=$build/corpus/$t findings=$build/findings/$t log=$build/logs/$t.log
   mkdir -p "$work" "$findings" "$build/logs"
   options=(); [ -f "tests/fuzz/dict/$t.dict" ] && options=(-dict="tests/fuzz/dict/$t.dict")
   [ -n "${BTF_FUZZ_SEED:-}" ] && options+=(-seed="$BTF_FUZZ_SEED")
+  [ -n "${BTF_FUZZ_RUNS:-}" ] && options+=(-runs="$BTF_FUZZ_RUNS")
   echo "== $t: ${seconds} s"
   set +e
   "$build/fuzz/$t" "$work" "tests/fuzz/corpus/$t" "${options[@]}" -max_total_time="$seconds" -timeout=2 \
@@ -79,7 +83,7 @@ for t in "${targets[@]}"; do
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1 || true)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1 || true)
   cov=$({ grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" || true; } | tail -1)
-  found=$(find "$findings" -type f | wc -l)
+  found=$(find "$findings" -type f -newer "$stamp" | wc -l)
   line=$(printf '%-16s %10s execs %7s/s  %-22s %s finding(s)' "$t" "${execs:-?}" "${rate:-?}" "${cov:-cov: ?}" "$found")
   summary+=("$line")
   if [ "$rc" -ne 0 ] || [ "$found" -ne 0 ]; then

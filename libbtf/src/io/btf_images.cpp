@@ -332,16 +332,24 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
       const float e = float(code) / 255.0f;
       table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbDecode(e) : e) * value_scale_;
     }
-    std::vector<std::uint8_t> codes(texels * 3);
-    if (!readPixels(*in, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
+    std::vector<std::uint8_t> codes;
+    auto allocate = [&]() -> void* {
+      codes.resize(texels * 3);
+      return codes.data();
+    };
+    if (!readPixels(*in, 0, 3, OIIO::TypeDesc::UINT8, allocate))
       throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
     for (std::size_t i = 0; i < texels; ++i)
       dst[i] = Rgb(table[codes[3 * i]], table[codes[3 * i + 1]], table[codes[3 * i + 2]]);
     return;
   }
-  std::vector<float> pixels(texels * 3);
+  std::vector<float> pixels;
+  auto allocate = [&]() -> void* {
+    pixels.resize(texels * 3);
+    return pixels.data();
+  };
   // Channels 0..2 only; integer data arrives as code / max_code.
-  if (!readPixels(*in, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
+  if (!readPixels(*in, 0, 3, OIIO::TypeDesc::FLOAT, allocate))
     throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
   const bool is_float = spec.format.is_floating_point();
   const float scale = is_float ? 1.0f : value_scale_;

@@ -52,8 +52,12 @@ bool isUserAttribute(const std::string& name) {
 Image readCurrentSubimage(const fs::path& path, OIIO::ImageInput& in, int subimage) {
   const OIIO::ImageSpec& spec = in.spec();
   requireImageSizeWithinLimits(path, spec);
-  Image image(spec.width, spec.height, spec.nchannels);
-  if (!readPixels(in, subimage, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+  Image image;
+  auto allocate = [&]() -> void* {
+    image = Image(spec.width, spec.height, spec.nchannels);
+    return image.pixels.data();
+  };
+  if (!readPixels(in, subimage, spec.nchannels, OIIO::TypeDesc::FLOAT, allocate))
     throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in.geterror());
   return image;
 }

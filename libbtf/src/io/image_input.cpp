@@ -2,14 +2,15 @@
 
 #include <OpenEXR/ImfHeader.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
-#include <string>
-#include <cstddef>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "btf/core/error.h"
@@ -191,20 +192,38 @@ std::unique_ptr<OIIO::ImageInput> openImageInput(const fs::path& path) {
   checkExrAttributeSizes(path);
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw FileError(path, "cannot be read as an image (corrupt?): " + OIIO::geterror());
+  // OpenImageIO tries every reader it has on a file its extension's reader refuses. libbtf's data
+  // comes in five formats; any other (WebP, GIF, PSD, DPX, ...) is refused by name rather than
+  // decoded: each reader is code a corrupt file can reach, and a 22-byte WebP decodes to hundreds
+  // of megapixels.
+  const std::string format = in->format_name();
+  if (format != "openexr" && format != "png" && format != "jpeg" && format != "tiff" && format != "hdr")
+    throw FileError(path, "is a " + format + " image; libbtf reads OpenEXR, PNG, JPEG, TIFF and Radiance HDR images");
   requireImageSizeWithinLimits(path, in->spec());
   return in;
 }
 
-bool readPixels(OIIO::ImageInput& in, int subimage, int channels, OIIO::TypeDesc format, void* dst) {
+bool readPixels(OIIO::ImageInput& in, int subimage, int channels, OIIO::TypeDesc format,
+                const std::function<void*()>& destination) {
   const OIIO::ImageSpec& spec = in.spec();
-  if (spec.tile_width > 0 || spec.depth > 1) return in.read_image(subimage, 0, 0, channels, format, dst);
+  if (spec.tile_width > 0 || spec.depth > 1) {
+    // Tiled: the first tile decodes before the image is allocated, then read_image reads it all.
+    if (spec.tile_width > 0) {
+      const std::size_t tile_values = std::size_t(spec.tile_width) * std::size_t(std::max(spec.tile_height, 1)) *
+                                      std::size_t(std::max(spec.tile_depth, 1)) * std::size_t(spec.nchannels);
+      std::vector<std::byte> tile(tile_values * format.size());
+      if (!in.read_tile(spec.x, spec.y, spec.z, format, tile.data())) return false;  // of the current subimage
+    }
+    return in.read_image(subimage, 0, 0, channels, format, destination());
+  }
   const std::size_t value_bytes = format.size();
   const std::size_t row_values = std::size_t(spec.width) * std::size_t(spec.nchannels);
   std::vector<std::byte> row(row_values * value_bytes);
-  auto* out = static_cast<std::byte*>(dst);
+  std::byte* out = nullptr;
   for (int y = 0; y < spec.height; ++y) {
     // read_scanline reads every channel; the first `channels` of each pixel are kept.
     if (!in.read_scanline(spec.y + y, spec.z, format, row.data())) return false;
+    if (!out) out = static_cast<std::byte*>(destination());
     for (int x = 0; x < spec.width; ++x)
       std::memcpy(out + (std::size_t(y) * std::size_t(spec.width) + std::size_t(x)) * std::size_t(channels) * value_bytes,
                   row.data() + std::size_t(x) * std::size_t(spec.nchannels) * value_bytes,

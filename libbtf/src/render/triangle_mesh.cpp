@@ -102,6 +102,11 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
     std::string line = bytes.substr(pos, eol - pos);
     pos = eol + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    // Words are separated by spaces and tabs only: Assimp's tokenizer takes a vertical tab or a
+    // form feed (which istream counts as space) as part of a word, misses "end_header" followed
+    // by one, and then reads the body as header for ever.
+    if (std::any_of(line.begin(), line.end(), [](char c) { return (static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f; }))
+      fail("malformed PLY header: a control character in line " + std::to_string(std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(pos), '\n')));
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
