@@ -211,6 +211,31 @@ TEST(SceneLoader, RglMaterial) {
   EXPECT_GT(paper.material->eval(glm::vec3(0, 0, 1), glm::normalize(glm::vec3(0.1f, 0, 1))).average(), 0.0f);
 }
 
+// A model written by `btf fit`, as a material: the file's parameters, and its errors named.
+TEST(SceneLoader, FittedMaterial) {
+  test::TempDir dir;
+  writeText(dir / "fits/ggx.json", R"({"format": "libbtf-fit", "version": 1, "model": "ggx",
+    "parameters": {"diffuse": [0.2, 0.3, 0.4], "f0": [0.04, 0.04, 0.04], "alpha": 0.2}})");
+  json s = baseScene();
+  s["materials"]["fit"] = {{"type", "fitted"}, {"file", "fits/ggx.json"}};
+  s["shapes"][0]["material"] = "fit";
+  const SceneDescription d = loadScene(dir, s);
+  const SceneMaterial& fit = d.materials[0].name == "fit" ? d.materials[0] : d.materials[1];
+  ASSERT_NE(dynamic_cast<const Ggx*>(fit.material.get()), nullptr);
+  const glm::vec3 wi(0, 0, 1), wo = glm::normalize(glm::vec3(0.3f, 0, 1));
+  EXPECT_EQ(fit.material->eval(wi, wo).g, Ggx(Rgb(0.2f, 0.3f, 0.4f), Rgb(0.04f), 0.2f, 0.2f).eval(wi, wo).g);
+  writeText(dir / "fits/bad.json", R"({"format": "libbtf-fit", "version": 1, "model": "ggx",
+    "parameters": {"diffuse": [0.2, 0.3, 0.4], "f0": [0.04, 0.04, 2], "alpha": 0.2}})");
+  s["materials"]["fit"]["file"] = "fits/bad.json";
+  try {
+    (void)loadScene(dir, s);
+    ADD_FAILURE() << "no error";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/parameters/f0/2"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneLoader, SamplerChoices) {
   test::TempDir dir;
   json s = baseScene();

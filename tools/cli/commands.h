@@ -15,5 +15,6 @@ void registerBenchCommand(CLI::App& app);
 void registerCompressCommands(CLI::App& app);  // compress, decompress and merge
 void registerCompareCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
+void registerFitCommand(CLI::App& app);
 
 }  // namespace btf::cli

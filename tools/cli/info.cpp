@@ -156,6 +156,8 @@ void runInfo(const InfoOptions& o) {
   }
   std::printf("%s\n", file.c_str());
   std::printf("  format      %s\n", describe(format).c_str());
+  if (format == MeasuredFormat::FittedModel)  // shown tabulated below, like any table
+    std::printf("  model       %s\n", loadMeasuredMaterial(file, o.lookup)->name().c_str());
   std::printf("  dims        %d x %d x %d (theta_h x theta_d x phi_d), RGB\n", MerlTable::kThetaHalfRes,
               MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes);
   std::printf("  unmeasured  %zu of %zu samples (%.2f%%)\n", unmeasured, total, percent);

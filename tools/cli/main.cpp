@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   btf::cli::registerCompressCommands(app);
   btf::cli::registerCompareCommand(app);
   btf::cli::registerRenderCommand(app);
+  btf::cli::registerFitCommand(app);
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);

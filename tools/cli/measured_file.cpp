@@ -1,6 +1,7 @@
 #include "measured_file.h"
 
 #include "btf/core/error.h"
+#include "btf/fit/fit_file.h"
 #include "btf/io/image.h"
 #include "btf/material/rgl_brdf.h"
 #include "merl_exr_stack.h"
@@ -12,8 +13,10 @@ MeasuredFormat measuredFormatOf(const std::filesystem::path& path) {
   if (ext == ".binary") return MeasuredFormat::MerlBinary;
   if (ext == ".exr") return MeasuredFormat::ExrStack;
   if (ext == ".bsdf") return MeasuredFormat::RglTensor;
+  if (ext == ".json") return MeasuredFormat::FittedModel;
   const std::string what = ext.empty() ? "has no extension" : "has the unknown extension '" + ext + "'";
-  throw FileError(path, what + " (expected .binary for a MERL table, .exr for a btf convert stack or .bsdf for an RGL material)");
+  throw FileError(path, what + " (expected .binary for a MERL table, .exr for a btf convert stack, .bsdf for an RGL material "
+                               "or .json for a btf fit model)");
 }
 
 std::string describe(MeasuredFormat format) {
@@ -21,6 +24,7 @@ std::string describe(MeasuredFormat format) {
     case MeasuredFormat::MerlBinary: return "MERL binary (isotropic BRDF table)";
     case MeasuredFormat::ExrStack: return "EXR stack of MERL half/diff slices (btf convert)";
     case MeasuredFormat::RglTensor: return "RGL measured material (tensor_file, Dupuy & Jakob 2018)";
+    case MeasuredFormat::FittedModel: return "analytic model fitted by btf fit";
   }
   return "unknown";
 }
@@ -30,12 +34,14 @@ MerlTable loadMeasuredTable(const std::filesystem::path& path) {
     case MeasuredFormat::MerlBinary: return readMerl(path);
     case MeasuredFormat::ExrStack: return exrStackToMerl(path, readImageStack(path));
     case MeasuredFormat::RglTensor: return tabulate(RglBrdf(path));
+    case MeasuredFormat::FittedModel: return tabulate(*makeAnalyticMaterial(readFitFile(path)));
   }
   throw FileError(path, "unsupported format");
 }
 
 std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup) {
   if (measuredFormatOf(path) == MeasuredFormat::RglTensor) return std::make_unique<RglBrdf>(path);
+  if (measuredFormatOf(path) == MeasuredFormat::FittedModel) return makeAnalyticMaterial(readFitFile(path));
   return std::make_unique<TabulatedBrdf>(std::make_shared<const MerlTable>(loadMeasuredTable(path)), lookup);
 }
 

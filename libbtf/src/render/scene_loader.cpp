@@ -13,6 +13,7 @@
 
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
+#include "btf/fit/fit_file.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
 #include "btf/io/btf_images.h"
@@ -218,6 +219,10 @@ std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::str
   if (type == "rgl") {
     m.allowOnly({"type", "file", "sampler"});
     return std::make_shared<RglBrdf>(m["file"].existingPath());
+  }
+  if (type == "fitted") {  // a model written by `btf fit` (fit/fit_file.h)
+    m.allowOnly({"type", "file", "sampler"});
+    return makeAnalyticMaterial(readFitFile(m["file"].existingPath()));
   }
   if (type == "merl-fit") {
     m.allowOnly({"type", "name", "model", "fits_dir", "sampler"});

@@ -1,0 +1,95 @@
+// Fitting an analytic model to a tabulated isotropic BRDF (a MERL-layout table: a MERL file, or any
+// material tabulated into one) with Ceres' Levenberg–Marquardt, from several starts.
+//
+// The objective. Samples are table cells: every theta_h cell, every 3rd theta_d and every 6th phi_d
+// cell (81,000 cells before the exclusions), at the cell's angles as the table stores them. A cell
+// is left out when it is unmeasured (negative in any channel) or when either direction lies below
+// the horizon. Each sample s gives one residual per channel c,
+//   r_sc = ln(1 + cos(theta_i) f_model,c) - ln(1 + cos(theta_i) f_data,c),
+// the log-compressed, cosine-weighted difference of Löw et al. 2012: a highlight of 1000/sr and a
+// diffuse 0.1/sr both count, and grazing light (where measurements are least reliable) counts
+// less. The three residuals of a sample form one block under Ceres' SoftLOneLoss with scale 0.1
+// (rho(s) = 2 a^2 (sqrt(1 + s / a^2) - 1), a = 0.1): a sample off by more than about 10% in log
+// space counts linearly, not squared, so a few corrupt cells cannot pull the whole fit.
+//
+// The models and their parameters (isotropic, like the tables):
+//   ggx        diffuse kd (RGB), f0 (RGB), alpha            material/ggx.h
+//   ward       diffuse kd (RGB), specular ks (RGB), alpha   material/ward.h
+//   lafortune  diffuse kd (RGB), per lobe rho (RGB), c = (cxy, cxy, cz), exponent n
+//              (1 to 3 lobes; shared lobe shapes with RGB weights, or each channel its own)
+// Bounds: albedos in [0, 1]; alpha in [1e-3, 2]; n in [1, 1e5]; c on the unit circle of (cxy, cz)
+// (only its direction matters in this normalization of the model).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "btf/core/rgb.h"
+#include "btf/io/merl.h"
+#include "btf/material/lafortune.h"
+#include "btf/material/material.h"
+
+namespace btf {
+
+enum class AnalyticFamily { Lafortune, Ggx, Ward };
+
+// "lafortune", "ggx", "ward".
+const char* analyticFamilyName(AnalyticFamily family);
+// Inverse of analyticFamilyName; throws btf::Error naming the choices.
+AnalyticFamily parseAnalyticFamily(std::string_view text);
+
+struct AnalyticFitOptions {
+  AnalyticFamily family = AnalyticFamily::Ggx;
+  int lobes = 1;             // Lafortune: 1 to 3
+  bool per_channel = false;  // Lafortune: each channel its own lobe shapes (3 x lobes lobes in all)
+  int starts = 6;            // initial guesses, spread over the shape parameters (>= 1)
+  int max_iterations = 100;  // per start
+};
+
+// The fitted parameters; which are used depends on the family.
+struct AnalyticParameters {
+  AnalyticFamily family = AnalyticFamily::Ggx;
+  Rgb diffuse;                        // kd, every family
+  Rgb specular;                       // f0 (ggx) or ks (ward)
+  float alpha = 0;                    // ggx, ward
+  std::vector<LafortuneLobe> lobes;   // lafortune
+};
+
+// The Material of a parameter set (a Ggx, Ward or Lafortune). Throws btf::Error for parameters
+// the model refuses.
+std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& parameters);
+
+struct AnalyticFitReport {
+  bool converged = false;      // Ceres ended on its convergence tolerances for the chosen start
+  int starts = 0;              // starts tried
+  int starts_converged = 0;
+  int iterations = 0;          // of the chosen start
+  double cost = 0;             // the objective above at the chosen start's end
+  std::size_t samples = 0;     // cells in the objective
+  std::size_t excluded = 0;    // cells of the sampling grid left out (unmeasured or below the horizon)
+  double rel_rmse = 0;         // tableRelRmse of the fit
+  double seconds = 0;          // wall time of the fit
+  std::string ceres_report;    // Ceres' BriefReport of the chosen start (per channel: three lines)
+};
+
+struct AnalyticFit {
+  AnalyticParameters parameters;
+  std::shared_ptr<const Material> material;
+  AnalyticFitReport report;
+};
+
+// Throws btf::Error for bad options and for a table with no usable cell. Deterministic: the
+// starts run in parallel, each from a fixed initial guess, and the lowest cost wins (ties to the
+// earlier start). Progress: one "fit" task over the starts.
+AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options);
+
+// How far a model is from a table: rel_rmse of f cos(theta_i) over every measured cell whose
+// directions both lie above the horizon, all channels together:
+//   sqrt(sum (cos_i (f_model - f_table))^2) / sqrt(sum (cos_i f_table)^2).
+// The measure of `btf fit` and of the README's comparison with the published fits.
+double tableRelRmse(const Material& model, const MerlTable& table);
+
+}  // namespace btf

@@ -1,0 +1,370 @@
+#include "btf/fit/analytic_fit.h"
+
+#include <ceres/ceres.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "btf/core/error.h"
+#include "btf/core/half_diff.h"
+#include "btf/core/progress.h"
+#include "btf/material/ggx.h"
+#include "btf/material/ward.h"
+#include "fit_models.h"
+
+namespace btf {
+namespace {
+
+using fit::FitSample;
+
+// The sampling grid of the objective (analytic_fit.h): every theta_h cell, where highlights live
+// (MERL's theta_h axis is already dense near the normal), and every 3rd theta_d and 6th phi_d
+// cell, which vary slowly in every model fitted here.
+constexpr int kThetaDiffStride = 3;
+constexpr int kPhiDiffStride = 6;
+constexpr double kRobustScale = 0.1;  // SoftLOneLoss scale, in units of the log residual
+
+struct CellDirections {
+  glm::vec3 wi, wo;
+};
+
+CellDirections directionsOf(int theta_h, int theta_d, int phi_d) {
+  HalfDiff hd;
+  hd.theta_h = float(MerlTable::thetaHalfOf(theta_h));
+  hd.theta_d = float(MerlTable::thetaDiffOf(theta_d));
+  hd.phi_d = float(MerlTable::phiDiffOf(phi_d));
+  const DirectionPair pair = fromHalfDiff(hd);
+  return {pair.wi, pair.wo};
+}
+
+FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
+  FitSample s;
+  s.cos_i = wi.z;
+  s.cos_o = wo.z;
+  s.tan2_i = (1.0 - s.cos_i * s.cos_i) / (s.cos_i * s.cos_i);
+  s.tan2_o = (1.0 - s.cos_o * s.cos_o) / (s.cos_o * s.cos_o);
+  const glm::dvec3 sum = glm::dvec3(wi) + glm::dvec3(wo);
+  s.sum_length2 = glm::dot(sum, sum);
+  const double length = std::sqrt(s.sum_length2);
+  s.half_length = 0.5 * length;
+  s.h_z2 = (sum.z / length) * (sum.z / length);
+  s.h_xy2 = std::max(0.0, 1.0 - s.h_z2);
+  s.product_xy = double(wi.x) * wo.x + double(wi.y) * wo.y;
+  s.product_z = double(wi.z) * wo.z;
+  for (int c = 0; c < 3; ++c) s.target[c] = std::log1p(s.cos_i * double(f[c]));
+  return s;
+}
+
+struct SampleSet {
+  std::vector<FitSample> samples;
+  std::size_t excluded = 0;
+  Rgb diffuse_guess;  // pi times the mean f of cells far from the highlight: a start for kd
+};
+
+SampleSet sampleTable(const MerlTable& table) {
+  SampleSet set;
+  double far_sum[3] = {}, far_count = 0;
+  for (int i = 0; i < MerlTable::kThetaHalfRes; ++i)
+    for (int j = 0; j < MerlTable::kThetaDiffRes; j += kThetaDiffStride)
+      for (int k = 0; k < MerlTable::kPhiDiffRes; k += kPhiDiffStride) {
+        const std::size_t cell = MerlTable::index(i, j, k);
+        const CellDirections d = directionsOf(i, j, k);
+        if (!table.isMeasured(cell) || !(d.wi.z > 1e-4f) || !(d.wo.z > 1e-4f)) {
+          ++set.excluded;
+          continue;
+        }
+        const Rgb f = table.reflectance(cell);
+        set.samples.push_back(makeSample(d.wi, d.wo, f));
+        if (MerlTable::thetaHalfOf(i) > 0.7) {  // beyond 40 degrees from the normal
+          for (int c = 0; c < 3; ++c) far_sum[c] += f[c];
+          ++far_count;
+        }
+      }
+  for (int c = 0; c < 3; ++c)
+    set.diffuse_guess[c] = far_count > 0 ? float(std::clamp(fit::kFitPi * far_sum[c] / far_count, 0.02, 0.95)) : 0.3f;
+  return set;
+}
+
+// One sample's residuals: ln(1 + cos_i f_model) - ln(1 + cos_i f_data), per channel.
+template <int kChannels, class Eval>
+struct SampleResidual {
+  const FitSample* sample;
+  int channel;  // the data channel of a one-channel fit; ignored for kChannels == 3
+  Eval eval;
+  template <class T>
+  bool operator()(const T* p, T* r) const {
+    using std::log;
+    T f[kChannels];
+    eval(p, *sample, f);
+    for (int c = 0; c < kChannels; ++c)
+      r[c] = log(T(1) + T(sample->cos_i) * f[c]) - T(sample->target[kChannels == 3 ? c : channel]);
+    return true;
+  }
+};
+
+struct Bound {
+  double lower, upper;
+};
+
+// One start of one problem: its initial parameters and bounds.
+struct StartResult {
+  std::vector<double> parameters;
+  ceres::Solver::Summary summary;
+};
+
+template <int kChannels, int kParameters, class Eval>
+StartResult solveStart(const SampleSet& set, int channel, Eval eval, std::vector<double> initial,
+                       const std::vector<Bound>& bounds, int max_iterations) {
+  StartResult result;
+  result.parameters = std::move(initial);
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::SoftLOneLoss loss(kRobustScale);
+  double* p = result.parameters.data();
+  for (const FitSample& s : set.samples) {
+    using Residual = SampleResidual<kChannels, Eval>;
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<Residual, kChannels, kParameters>(new Residual{&s, channel, eval}), &loss, p);
+  }
+  for (int i = 0; i < kParameters; ++i) {
+    problem.SetParameterLowerBound(p, i, bounds[std::size_t(i)].lower);
+    problem.SetParameterUpperBound(p, i, bounds[std::size_t(i)].upper);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = max_iterations;
+  options.num_threads = 1;  // the starts run in parallel instead
+  options.logging_type = ceres::SILENT;
+  ceres::Solve(options, &problem, &result.summary);
+  return result;
+}
+
+// Runs every start (in parallel, each deterministic) and keeps the lowest final cost.
+template <int kChannels, int kParameters, class Eval>
+StartResult bestOfStarts(const SampleSet& set, int channel, Eval eval, const std::vector<std::vector<double>>& starts,
+                         const std::vector<Bound>& bounds, int max_iterations, Progress& progress, int& converged) {
+  std::vector<StartResult> results(starts.size());
+  tbb::parallel_for(std::size_t(0), starts.size(), [&](std::size_t k) {
+    results[k] = solveStart<kChannels, kParameters>(set, channel, eval, starts[k], bounds, max_iterations);
+    progress.advance();
+  });
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    if (results[k].summary.termination_type == ceres::CONVERGENCE) ++converged;
+    if (results[k].summary.final_cost < results[best].summary.final_cost) best = k;
+  }
+  return std::move(results[best]);
+}
+
+// Evenly spaced in log between lo and hi over the starts (the geometric mean for one start).
+double logSpread(double lo, double hi, int k, int count) {
+  const double t = count > 1 ? double(k) / double(count - 1) : 0.5;
+  return std::log(lo) + t * (std::log(hi) - std::log(lo));
+}
+
+void recordStart(AnalyticFitReport& report, const StartResult& best, const std::string& label) {
+  report.converged = report.converged && best.summary.termination_type == ceres::CONVERGENCE;
+  report.iterations = std::max(report.iterations, int(best.summary.iterations.size()) - 1);
+  report.cost += best.summary.final_cost;
+  if (!report.ceres_report.empty()) report.ceres_report += '\n';
+  report.ceres_report += label + best.summary.BriefReport();
+}
+
+// GGX or Ward: kd[3], f0 or ks[3], ln(alpha).
+template <class Eval>
+void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval eval, double specular_start,
+                   AnalyticParameters& out, AnalyticFitReport& report) {
+  std::vector<std::vector<double>> starts;
+  for (int k = 0; k < options.starts; ++k) {
+    const Rgb& kd = set.diffuse_guess;
+    // Alternate weak (dielectric) and strong (metallic) specular starts across the roughnesses.
+    const double ks = k % 2 == 0 ? specular_start : 0.5;
+    starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, ks, ks, ks, logSpread(0.01, 0.6, k, options.starts)});
+  }
+  std::vector<Bound> bounds(6, Bound{0.0, 1.0});
+  bounds.push_back({std::log(1e-3), std::log(2.0)});
+  Progress progress("fit", std::uint64_t(options.starts));
+  const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options.max_iterations, progress,
+                                               report.starts_converged);
+  recordStart(report, best, "");
+  const std::vector<double>& p = best.parameters;
+  out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
+  out.specular = Rgb(float(p[3]), float(p[4]), float(p[5]));
+  out.alpha = float(std::exp(p[6]));
+}
+
+template <int kChannels, int kLobes>
+std::vector<double> lafortuneStart(const SampleSet& set, int channel, int k, int starts) {
+  std::vector<double> p;
+  for (int c = 0; c < kChannels; ++c) p.push_back(0.8 * set.diffuse_guess[kChannels == 3 ? c : channel]);
+  // The sharpest lobe's exponent spreads over the starts; further lobes are 8x and 64x wider.
+  // Their directions start forward (Phong-like, c = (-1, -1, 1): beta = 3 pi / 4), the extra
+  // lobes tilted towards grazing and towards the normal.
+  const double log_n = logSpread(5.0, 5000.0, k, starts);
+  constexpr std::array<double, 3> kBetaOffset = {0.0, 0.3, -0.3};
+  for (int l = 0; l < kLobes; ++l) {
+    p.push_back(0.75 * fit::kFitPi + kBetaOffset[std::size_t(l)]);
+    p.push_back(std::max(0.0, log_n - l * std::log(8.0)));
+    for (int c = 0; c < kChannels; ++c) p.push_back(0.1);
+  }
+  return p;
+}
+
+template <int kChannels, int kLobes>
+std::vector<Bound> lafortuneBounds() {
+  std::vector<Bound> bounds(kChannels, Bound{0.0, 1.0});
+  for (int l = 0; l < kLobes; ++l) {
+    bounds.push_back({-fit::kFitPi, fit::kFitPi});
+    bounds.push_back({0.0, std::log(1e5)});
+    for (int c = 0; c < kChannels; ++c) bounds.push_back({0.0, 1.0});
+  }
+  return bounds;
+}
+
+template <int kLobes>
+void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, AnalyticParameters& out,
+                  AnalyticFitReport& report) {
+  out.lobes.clear();
+  if (!options.per_channel) {
+    constexpr int kParameters = fit::lafortuneParameterCount<3>(kLobes);
+    auto eval = [](const auto* p, const FitSample& s, auto* f) { fit::evalLafortune<3, kLobes>(p, s, f); };
+    std::vector<std::vector<double>> starts;
+    for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<3, kLobes>(set, 0, k, options.starts));
+    Progress progress("fit", std::uint64_t(options.starts));
+    const StartResult best = bestOfStarts<3, kParameters>(set, 0, eval, starts, lafortuneBounds<3, kLobes>(),
+                                                          options.max_iterations, progress, report.starts_converged);
+    recordStart(report, best, "");
+    const std::vector<double>& p = best.parameters;
+    out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
+    for (int l = 0; l < kLobes; ++l) {
+      const double* lobe = p.data() + 3 + l * 5;
+      const float cxy = float(std::cos(lobe[0])), cz = float(std::sin(lobe[0]));
+      out.lobes.push_back({Rgb(float(lobe[2]), float(lobe[3]), float(lobe[4])), glm::vec3(cxy, cxy, cz), float(std::exp(lobe[1]))});
+    }
+    return;
+  }
+  // Per channel: three independent one-channel fits; channel c's lobes carry weight in c only.
+  constexpr int kParameters = fit::lafortuneParameterCount<1>(kLobes);
+  auto eval = [](const auto* p, const FitSample& s, auto* f) { fit::evalLafortune<1, kLobes>(p, s, f); };
+  Progress progress("fit", std::uint64_t(3 * options.starts));
+  for (int channel = 0; channel < 3; ++channel) {
+    std::vector<std::vector<double>> starts;
+    for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<1, kLobes>(set, channel, k, options.starts));
+    const StartResult best = bestOfStarts<1, kParameters>(set, channel, eval, starts, lafortuneBounds<1, kLobes>(),
+                                                          options.max_iterations, progress, report.starts_converged);
+    recordStart(report, best, std::string("RGB").substr(std::size_t(channel), 1) + ": ");
+    const std::vector<double>& p = best.parameters;
+    out.diffuse[channel] = float(p[0]);
+    for (int l = 0; l < kLobes; ++l) {
+      const double* lobe = p.data() + 1 + l * 3;
+      const float cxy = float(std::cos(lobe[0])), cz = float(std::sin(lobe[0]));
+      Rgb rho;
+      rho[channel] = float(lobe[2]);
+      out.lobes.push_back({rho, glm::vec3(cxy, cxy, cz), float(std::exp(lobe[1]))});
+    }
+  }
+}
+
+}  // namespace
+
+const char* analyticFamilyName(AnalyticFamily family) {
+  switch (family) {
+    case AnalyticFamily::Lafortune: return "lafortune";
+    case AnalyticFamily::Ggx: return "ggx";
+    case AnalyticFamily::Ward: return "ward";
+  }
+  return "?";
+}
+
+AnalyticFamily parseAnalyticFamily(std::string_view text) {
+  for (AnalyticFamily f : {AnalyticFamily::Lafortune, AnalyticFamily::Ggx, AnalyticFamily::Ward})
+    if (text == analyticFamilyName(f)) return f;
+  throw Error("unknown analytic model '" + std::string(text) + "' (expected lafortune, ggx or ward)");
+}
+
+std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& p) {
+  switch (p.family) {
+    case AnalyticFamily::Ggx: return std::make_unique<Ggx>(p.diffuse, p.specular, p.alpha, p.alpha);
+    case AnalyticFamily::Ward: return std::make_unique<Ward>(p.diffuse, p.specular, p.alpha, p.alpha);
+    case AnalyticFamily::Lafortune: return std::make_unique<Lafortune>(p.diffuse, p.lobes);
+  }
+  throw Error("unknown analytic model");
+}
+
+AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
+  if (options.lobes < 1 || options.lobes > 3) throw Error("fit: lobes must be 1, 2 or 3, got " + std::to_string(options.lobes));
+  if (options.starts < 1) throw Error("fit: starts must be >= 1, got " + std::to_string(options.starts));
+  if (options.max_iterations < 1) throw Error("fit: max_iterations must be >= 1");
+  if (options.family != AnalyticFamily::Lafortune && (options.lobes != 1 || options.per_channel))
+    throw Error(std::string("fit: lobes and per-channel fits are for lafortune only, not ") + analyticFamilyName(options.family));
+  const auto start_time = std::chrono::steady_clock::now();
+  const SampleSet set = sampleTable(table);
+  if (set.samples.size() < 100)
+    throw Error("fit: the table has only " + std::to_string(set.samples.size()) +
+                " measured cells above the horizon on the fitting grid (100 or more needed)");
+
+  AnalyticFit fit;
+  AnalyticFitReport& report = fit.report;
+  report.converged = true;
+  report.samples = set.samples.size();
+  report.excluded = set.excluded;
+  report.starts = options.starts * (options.per_channel ? 3 : 1);
+  fit.parameters.family = options.family;
+  switch (options.family) {
+    case AnalyticFamily::Ggx:
+      fitMicrofacet(set, options, [](const auto* p, const FitSample& s, auto* f) { fit::evalGgx(p, s, f); }, 0.04,
+                    fit.parameters, report);
+      break;
+    case AnalyticFamily::Ward:
+      fitMicrofacet(set, options, [](const auto* p, const FitSample& s, auto* f) { fit::evalWard(p, s, f); }, 0.05,
+                    fit.parameters, report);
+      break;
+    case AnalyticFamily::Lafortune:
+      if (options.lobes == 1) fitLafortune<1>(set, options, fit.parameters, report);
+      else if (options.lobes == 2) fitLafortune<2>(set, options, fit.parameters, report);
+      else fitLafortune<3>(set, options, fit.parameters, report);
+      break;
+  }
+  fit.material = makeAnalyticMaterial(fit.parameters);
+  report.rel_rmse = tableRelRmse(*fit.material, table);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return fit;
+}
+
+double tableRelRmse(const Material& model, const MerlTable& table) {
+  // Sums per theta_h row in parallel, added in row order: the same result for any thread count.
+  std::vector<std::array<double, 2>> rows(MerlTable::kThetaHalfRes, {0.0, 0.0});
+  tbb::parallel_for(0, MerlTable::kThetaHalfRes, [&](int i) {
+    double error = 0, reference = 0;
+    for (int j = 0; j < MerlTable::kThetaDiffRes; ++j)
+      for (int k = 0; k < MerlTable::kPhiDiffRes; ++k) {
+        const std::size_t cell = MerlTable::index(i, j, k);
+        if (!table.isMeasured(cell)) continue;
+        const CellDirections d = directionsOf(i, j, k);
+        if (!(d.wi.z > 0.0f) || !(d.wo.z > 0.0f)) continue;
+        const Rgb data = table.reflectance(cell);
+        const Rgb f = model.eval(d.wi, d.wo);
+        for (int c = 0; c < 3; ++c) {
+          const double e = double(d.wi.z) * (double(f[c]) - double(data[c]));
+          const double r = double(d.wi.z) * double(data[c]);
+          error += e * e;
+          reference += r * r;
+        }
+      }
+    rows[std::size_t(i)] = {error, reference};
+  });
+  double error = 0, reference = 0;
+  for (const auto& row : rows) {
+    error += row[0];
+    reference += row[1];
+  }
+  return reference > 0 ? std::sqrt(error / reference) : 0.0;
+}
+
+}  // namespace btf

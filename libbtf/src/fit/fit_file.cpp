@@ -1,0 +1,159 @@
+#include "btf/fit/fit_file.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include "btf/core/error.h"
+#include "btf/io/atomic_file.h"
+
+namespace btf {
+namespace {
+
+using json = nlohmann::json;
+
+json rgbJson(const Rgb& c) { return json::array({c.r, c.g, c.b}); }
+
+// Readers of one value each; `where` is the key path for the message.
+class FitReader {
+ public:
+  explicit FitReader(const std::filesystem::path& path) : path_(path) {}
+
+  [[noreturn]] void fail(const std::string& problem) const { throw FileError(path_, problem); }
+
+  const json& member(const json& object, const std::string& key, const std::string& where) const {
+    if (!object.is_object()) fail(where + ": expected an object");
+    const auto it = object.find(key);
+    if (it == object.end()) fail(where + ": missing \"" + key + "\"");
+    return *it;
+  }
+  void allowOnly(const json& object, std::initializer_list<const char*> keys, const std::string& where) const {
+    for (const auto& [key, value] : object.items()) {
+      bool known = false;
+      for (const char* k : keys) known = known || key == k;
+      if (!known) fail(where + ": unknown key \"" + key + "\"");
+    }
+  }
+  float number(const json& value, const std::string& where, double lo, double hi) const {
+    if (!value.is_number()) fail(where + ": expected a number");
+    const double v = value.get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi)
+      fail(where + ": " + value.dump() + " is outside [" + json(lo).dump() + ", " + json(hi).dump() + "]");
+    return float(v);
+  }
+  Rgb rgb(const json& value, const std::string& where, double hi) const {
+    if (!value.is_array() || value.size() != 3) fail(where + ": expected [r, g, b]");
+    return {number(value[0], where + "/0", 0, hi), number(value[1], where + "/1", 0, hi), number(value[2], where + "/2", 0, hi)};
+  }
+
+ private:
+  const std::filesystem::path& path_;
+};
+
+}  // namespace
+
+void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, const std::string& source) {
+  const AnalyticParameters& p = fit.parameters;
+  json parameters = {{"diffuse", rgbJson(p.diffuse)}};
+  switch (p.family) {
+    case AnalyticFamily::Ggx:
+      parameters["f0"] = rgbJson(p.specular);
+      parameters["alpha"] = p.alpha;
+      break;
+    case AnalyticFamily::Ward:
+      parameters["specular"] = rgbJson(p.specular);
+      parameters["alpha"] = p.alpha;
+      break;
+    case AnalyticFamily::Lafortune: {
+      json lobes = json::array();
+      for (const LafortuneLobe& lobe : p.lobes)
+        lobes.push_back({{"rho", rgbJson(lobe.rho)}, {"c", json::array({lobe.c.x, lobe.c.y, lobe.c.z})}, {"exponent", lobe.exponent}});
+      parameters["lobes"] = std::move(lobes);
+      break;
+    }
+  }
+  const AnalyticFitReport& r = fit.report;
+  const json doc = {{"format", kFitFileFormat},
+                    {"version", 1},
+                    {"model", analyticFamilyName(p.family)},
+                    {"parameters", std::move(parameters)},
+                    {"fit",
+                     {{"source", source},
+                      {"rel_rmse", r.rel_rmse},
+                      {"converged", r.converged},
+                      {"cost", r.cost},
+                      {"samples", r.samples},
+                      {"excluded", r.excluded},
+                      {"starts", r.starts},
+                      {"starts_converged", r.starts_converged},
+                      {"iterations", r.iterations},
+                      {"seconds", r.seconds},
+                      {"ceres", r.ceres_report}}}};
+  writeFileAtomically(path, [&](std::ofstream& out) { out << doc.dump(2) << '\n'; });
+}
+
+AnalyticParameters readFitFile(const std::filesystem::path& path) {
+  requireReadableFile(path);
+  std::ifstream in(path, std::ios::binary);
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::exception& e) {
+    throw FileError(path, std::string("malformed JSON: ") + e.what());
+  }
+  const FitReader r(path);
+  if (!doc.is_object()) r.fail("expected a JSON object (a libbtf fit file)");
+  r.allowOnly(doc, {"format", "version", "model", "parameters", "fit"}, "/");
+  const json& format = r.member(doc, "format", "/");
+  if (format != kFitFileFormat) r.fail("/format: expected \"" + std::string(kFitFileFormat) + "\", got " + format.dump());
+  const json& version = r.member(doc, "version", "/");
+  if (version != 1) r.fail("/version: " + version.dump() + " is not a version this libbtf reads (1)");
+  const json& model = r.member(doc, "model", "/");
+  if (!model.is_string()) r.fail("/model: expected a string");
+  AnalyticParameters p;
+  try {
+    p.family = parseAnalyticFamily(model.get<std::string>());
+  } catch (const Error& e) {
+    r.fail(std::string("/model: ") + e.what());
+  }
+  const json& q = r.member(doc, "parameters", "/");
+  p.diffuse = r.rgb(r.member(q, "diffuse", "/parameters"), "/parameters/diffuse", 1e6);
+  switch (p.family) {
+    case AnalyticFamily::Ggx:
+      r.allowOnly(q, {"diffuse", "f0", "alpha"}, "/parameters");
+      p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
+      p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
+      break;
+    case AnalyticFamily::Ward:
+      r.allowOnly(q, {"diffuse", "specular", "alpha"}, "/parameters");
+      p.specular = r.rgb(r.member(q, "specular", "/parameters"), "/parameters/specular", 1e6);
+      p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
+      break;
+    case AnalyticFamily::Lafortune: {
+      r.allowOnly(q, {"diffuse", "lobes"}, "/parameters");
+      const json& lobes = r.member(q, "lobes", "/parameters");
+      if (!lobes.is_array() || lobes.empty()) r.fail("/parameters/lobes: expected an array of one or more lobes");
+      for (std::size_t i = 0; i < lobes.size(); ++i) {
+        const std::string where = "/parameters/lobes/" + std::to_string(i);
+        r.allowOnly(lobes[i], {"rho", "c", "exponent"}, where);
+        LafortuneLobe lobe;
+        lobe.rho = r.rgb(r.member(lobes[i], "rho", where), where + "/rho", 1e6);
+        const json& c = r.member(lobes[i], "c", where);
+        if (!c.is_array() || c.size() != 3) r.fail(where + "/c: expected [cx, cy, cz]");
+        for (int k = 0; k < 3; ++k) lobe.c[k] = r.number(c[std::size_t(k)], where + "/c/" + std::to_string(k), -1e6, 1e6);
+        lobe.exponent = r.number(r.member(lobes[i], "exponent", where), where + "/exponent", 0, 1e6);
+        p.lobes.push_back(lobe);
+      }
+      break;
+    }
+  }
+  try {
+    (void)makeAnalyticMaterial(p);  // the model's own checks (e.g. a lobe with c = 0)
+  } catch (const Error& e) {
+    r.fail(std::string("/parameters: ") + e.what());
+  }
+  return p;
+}
+
+}  // namespace btf

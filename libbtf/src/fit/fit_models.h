@@ -1,0 +1,94 @@
+// The isotropic models of analytic_fit.h written once more, templated on the scalar, so that
+// Ceres' Jets differentiate them. The Material classes (material/ggx.h, ward.h, lafortune.h) are
+// float, virtual and general (anisotropic); a test (test_analytic_fit.cpp) holds these formulas to
+// them at random parameters and directions.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace btf::fit {
+
+// Everything the models need of one direction pair, computed once in double.
+struct FitSample {
+  double cos_i = 0, cos_o = 0;
+  double tan2_i = 0, tan2_o = 0;  // tan^2 of theta_i and theta_o
+  double h_z2 = 0, h_xy2 = 0;     // squared components of the unit half vector along / across the normal
+  double half_length = 0;         // |wi + wo| / 2 = wi.h = wo.h
+  double sum_length2 = 0;         // |wi + wo|^2
+  double product_xy = 0;          // wi.x wo.x + wi.y wo.y
+  double product_z = 0;           // wi.z wo.z
+  double target[3] = {};          // ln(1 + cos_i f_data) per channel
+};
+
+inline constexpr double kFitPi = std::numbers::pi;
+
+template <class T>
+T pow5(const T& x) {
+  const T x2 = x * x;
+  return x2 * x2 * x;
+}
+
+// Parameters: kd[3], f0[3], ln(alpha).
+template <class T>
+void evalGgx(const T* p, const FitSample& s, T* f) {
+  using std::exp;
+  using std::sqrt;
+  const T alpha = exp(p[6]);
+  const T a2 = alpha * alpha;
+  const T q = T(s.h_xy2) / a2 + T(s.h_z2);
+  const T d = T(1) / (T(kFitPi) * a2 * q * q);
+  const T lambda_i = T(0.5) * (sqrt(T(1) + a2 * T(s.tan2_i)) - T(1));
+  const T lambda_o = T(0.5) * (sqrt(T(1) + a2 * T(s.tan2_o)) - T(1));
+  const T specular = d / (T(1) + (lambda_i + lambda_o)) / T(4 * s.cos_i * s.cos_o);
+  const double m_h = pow5(1.0 - std::min(s.half_length, 1.0));
+  const double m_i = pow5(1.0 - s.cos_i), m_o = pow5(1.0 - s.cos_o);
+  for (int c = 0; c < 3; ++c) {
+    const T& kd = p[c];
+    const T& f0 = p[3 + c];
+    const T fresnel_h = f0 + (T(1) - f0) * T(m_h);
+    const T transmit_i = (T(1) - f0) * T(1 - m_i);  // 1 - F(cos_i)
+    const T transmit_o = (T(1) - f0) * T(1 - m_o);
+    f[c] = fresnel_h * specular + kd / T(kFitPi) * transmit_i * transmit_o;
+  }
+}
+
+// Parameters: kd[3], ks[3], ln(alpha).
+template <class T>
+void evalWard(const T* p, const FitSample& s, T* f) {
+  using std::exp;
+  const T alpha = exp(p[6]);
+  const T a2 = alpha * alpha;
+  const T d = exp(-(T(s.h_xy2) / a2) / T(s.h_z2)) / (T(kFitPi) * a2 * T(s.h_z2 * s.h_z2));
+  for (int c = 0; c < 3; ++c) f[c] = p[c] / T(kFitPi) + p[3 + c] * d / T(s.sum_length2);
+}
+
+// kChannels 3 (shared lobes, RGB weights) or 1 (one channel of a per-channel fit). Parameters:
+// kd[kChannels], then per lobe: beta, ln(n), rho[kChannels], with c = (cos beta, cos beta, sin beta).
+template <int kChannels>
+constexpr int lafortuneParameterCount(int lobes) {
+  return kChannels + lobes * (2 + kChannels);
+}
+
+template <int kChannels, int kLobes, class T>
+void evalLafortune(const T* p, const FitSample& s, T* f) {
+  using std::abs;
+  using std::cos;
+  using std::exp;
+  using std::log;
+  using std::sin;
+  for (int c = 0; c < kChannels; ++c) f[c] = p[c] / T(kFitPi);
+  for (int l = 0; l < kLobes; ++l) {
+    const T* lobe = p + kChannels + l * (2 + kChannels);
+    const T cxy = cos(lobe[0]), cz = sin(lobe[0]);
+    const T max_c = abs(cxy) > abs(cz) ? abs(cxy) : abs(cz);
+    const T d = (cxy * T(s.product_xy) + cz * T(s.product_z)) / max_c;
+    if (!(d > T(0))) continue;
+    const T n = exp(lobe[1]);
+    const T shape = (n + T(2)) / T(2 * kFitPi) * exp(n * log(d));
+    for (int c = 0; c < kChannels; ++c) f[c] += lobe[2 + c] * shape;
+  }
+}
+
+}  // namespace btf::fit

@@ -1,0 +1,52 @@
+// btf fit: a model fitted to a generated table is written as JSON that every command reading a
+// material file accepts; bad arguments fail cleanly, naming the file, and write nothing.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "btf/fit/fit_file.h"
+#include "cli_test_support.h"
+
+namespace btf::test {
+namespace {
+
+using testing::HasSubstr;
+
+TEST(FitCli, FitsAGeneratedTableAndTheModelIsAMaterialFile) {
+  TempDir dir;
+  const auto table = dir / "plastic.binary", model = dir / "plastic-ggx.json";
+  ASSERT_EQ(runDatagen({"--preset", "plastic-red", "--clean", "-o", table.string()}).exit_code, 0);
+  CommandResult r = runBtf({"fit", table.string(), "--model", "ggx", "--starts", "2", "-o", model.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = parseJsonOutput(r);
+  EXPECT_TRUE(report["converged"].get<bool>());
+  EXPECT_LT(report["rel_rmse"].get<double>(), 0.02);  // the preset is a GGX: the fit reproduces it
+  const AnalyticParameters p = readFitFile(model);
+  EXPECT_NEAR(p.alpha, 0.1f, 0.005f);  // the preset's alpha (btf-datagen --list-presets)
+
+  r = runBtf({"info", model.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("fitted"));
+  r = runBtf({"plot", model.string(), "-o", (dir / "plot.png").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(FitCli, BadArgumentsFailNamingTheFileAndWriteNothing) {
+  TempDir dir;
+  const auto out = dir / "out.json";
+  CommandResult r = runBtf({"fit", (dir / "missing.binary").string(), "-o", out.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("missing.binary"));
+  r = runBtf({"fit", (dir / "missing.binary").string(), "-o", (dir / "out.txt").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("give a .json name"));
+  r = runBtf({"fit", (dir / "t.binary").string(), "--model", "phong", "-o", out.string()});
+  EXPECT_NE(r.exit_code, 0);
+  r = runBtf({"fit", (dir / "t.binary").string(), "--lobes", "4", "-o", out.string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace btf::test
