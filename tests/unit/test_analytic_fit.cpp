@@ -8,6 +8,8 @@
 #include <fstream>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "btf/core/error.h"
 #include "btf/fit/analytic_fit.h"
 #include "btf/fit/fit_file.h"
@@ -161,6 +163,29 @@ TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
   EXPECT_GT(fit.report.excluded, 0u);
   EXPECT_NEAR(fit.parameters.alpha, 0.2f, 0.01f);
   EXPECT_LT(fit.report.rel_rmse, 0.01);
+}
+
+// The starts run in parallel; which one wins may not depend on how many threads ran them.
+TEST(AnalyticFit, TheSameFitOnOneThreadAndOnSeveral) {
+  const MerlTable table = tabulate(Ward(Rgb(0.2f), Rgb(0.1f), 0.2f, 0.2f));
+  AnalyticFitOptions options;
+  options.family = AnalyticFamily::Ward;
+  options.starts = 3;
+  options.max_iterations = 3;
+  AnalyticParameters one, several;
+  {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
+    one = fitAnalytic(table, options).parameters;
+  }
+  {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 3);
+    several = fitAnalytic(table, options).parameters;
+  }
+  EXPECT_EQ(one.alpha, several.alpha);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(one.diffuse[c], several.diffuse[c]);
+    EXPECT_EQ(one.specular[c], several.specular[c]);
+  }
 }
 
 TEST(AnalyticFit, BadOptionsAndEmptyTablesAreErrors) {

@@ -1,5 +1,6 @@
 // Fitting an analytic model to a tabulated isotropic BRDF (a MERL-layout table: a MERL file, or any
-// material tabulated into one) with Ceres' Levenberg–Marquardt, from several starts.
+// material tabulated into one) with Ceres' Levenberg–Marquardt, from several starts: each start
+// is screened by 15 iterations on every 5th sample, and the best one continues on all samples.
 //
 // The objective. Samples are table cells: every theta_h cell, every 3rd theta_d and every 6th phi_d
 // cell (81,000 cells before the exclusions), at the cell's angles as the table stores them. A cell
@@ -65,8 +66,8 @@ std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& paramet
 struct AnalyticFitReport {
   bool converged = false;      // Ceres ended on its convergence tolerances for the chosen start
   int starts = 0;              // starts tried
-  int starts_converged = 0;
-  int iterations = 0;          // of the chosen start
+  int starts_converged = 0;    // starts that converged in the screening stage (see analytic_fit.cpp)
+  int iterations = 0;          // of the chosen start on all samples, after its screening
   double cost = 0;             // the objective above at the chosen start's end
   std::size_t samples = 0;     // cells in the objective
   std::size_t excluded = 0;    // cells of the sampling grid left out (unmeasured or below the horizon)
@@ -87,7 +88,8 @@ struct AnalyticFit {
 AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options);
 
 // How far a model is from a table: rel_rmse of f cos(theta_i) over every measured cell whose
-// directions both lie above the horizon, all channels together:
+// directions both lie within 80 degrees of the normal (grazing cells of tabulated measurements
+// hold outliers of 1e5 1/sr that would be the whole measure), all channels together:
 //   sqrt(sum (cos_i (f_model - f_table))^2) / sqrt(sum (cos_i f_table)^2).
 // The measure of `btf fit` and of the README's comparison with the published fits.
 double tableRelRmse(const Material& model, const MerlTable& table);
