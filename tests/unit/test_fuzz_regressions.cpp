@@ -85,6 +85,26 @@ TEST(FuzzRegressions, PlyHeaderWithAControlCharacterIsRefusedBeforeAssimp) {
   EXPECT_THAT(message, HasSubstr("a control character in line 5"));
 }
 
+// fuzz_mesh: "element face 2147483647 list<bytes>nt vertex_indices" declared two billion faces
+// whose property line Assimp's parser and ours both read as no property at all. An element of no
+// properties takes no bytes, so the body check could not bound it, and Assimp built every face
+// (minutes). Extra words on an element line, and elements of instances without properties, are
+// now refused.
+TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
+  test::TempDir dir;
+  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-2147483647-faces-without-properties.ply", dir.path());
+  const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
+  EXPECT_THAT(message, HasSubstr(ply.string()));
+  EXPECT_THAT(message, HasSubstr("malformed PLY header line 'element face 2147483647 list"));
+
+  // The same header written cleanly still declares faces without properties.
+  const fs::path clean = dir.path() / "faces-without-properties.ply";
+  std::ofstream(clean) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 2147483647\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(clean); }),
+              HasSubstr("PLY element 'face' declares 2147483647 instances but no properties"));
+}
+
 // fuzz_exr_stack: 21 and 22 bytes of WebP (named .exr) whose headers claim 12485 x 2053 and
 // 12485 x 5125 pixels. OpenImageIO fell back to its WebP reader: the first allocated and filled
 // 300 MB of floats before failing, the second decoded and premultiplied 64 megapixels, both far

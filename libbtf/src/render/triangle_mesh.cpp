@@ -118,9 +118,11 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
     } else if (keyword == "element") {
       Element e;
       std::string count;
-      words >> e.name >> count;
+      std::string extra;
+      words >> e.name >> count >> extra;
       const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), e.count);
-      if (ec != std::errc() || end != count.data() + count.size()) fail("malformed PLY header line '" + line + "'");
+      if (ec != std::errc() || end != count.data() + count.size() || !extra.empty())
+        fail("malformed PLY header line '" + line + "'");
       elements.push_back(std::move(e));
     } else if (keyword == "property") {
       if (elements.empty()) fail("malformed PLY header: a property before any element");
@@ -150,6 +152,11 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
       fail("malformed PLY header line '" + line + "'");
     }
   }
+  // An element without properties takes no bytes, so the body walk below cannot bound its count;
+  // Assimp would build every one of them (2^31 empty faces take minutes).
+  for (const Element& e : elements)
+    if (e.count > 0 && e.properties.empty())
+      fail("PLY element '" + e.name + "' declares " + std::to_string(e.count) + " instances but no properties");
   const bool ascii = format == "ascii";
   const bool big_endian = format == "binary_big_endian";
   if (!ascii && !big_endian && format != "binary_little_endian") fail("unknown PLY format '" + format + "'");
