@@ -1,7 +1,9 @@
-// btf convert: MERL -> EXR stack -> MERL within float precision; the stack is readable as such.
+// btf convert: MERL -> EXR stack -> MERL within float precision; the stack is readable as such;
+// MERL -> octree -> MERL bit for bit at tolerance 0 and within the tolerance otherwise.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "btf/io/image.h"
 #include "btf/io/merl.h"
@@ -64,6 +66,45 @@ TEST(Convert, StackHasOneLabelledSlicePerThetaHalfAndInfoReadsIt) {
   for (std::size_t k = 0; k < a["albedo"].size(); ++k)
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(a["albedo"][k]["rgb"][c].get<double>(), b["albedo"][k]["rgb"][c].get<double>(), 1e-5);
+}
+
+TEST(Convert, MerlToOctreeIsLosslessAtToleranceZeroAndWithinItOtherwise) {
+  TempDir dir;
+  const auto original = dir / "original.binary";
+  ASSERT_EQ(runDatagen({"--preset", "glossy-blue-plastic", "--holes", "0.05", "-o", original.string()}).exit_code, 0);
+  const MerlTable a = readMerl(original);
+  for (const char* tolerance : {"0", "0.02"}) {
+    SCOPED_TRACE(tolerance);
+    const auto octree = dir / (std::string("t") + tolerance + ".octree"), back = dir / (std::string("t") + tolerance + ".binary");
+    CommandResult r = runBtf({"convert", original.string(), octree.string(), "--tolerance", tolerance});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("leaves"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("rel_rmse"), std::string::npos) << r.output;
+    r = runBtf({"convert", octree.string(), back.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const MerlTable b = readMerl(back);
+    if (std::string(tolerance) == "0") {
+      EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(double)), 0);
+      continue;
+    }
+    double worst = 0;
+    for (std::size_t k = 0; k < a.values.size(); ++k)
+      if (a.isMeasured(k % MerlTable::kEntriesPerChannel))
+        worst = std::max(worst, std::abs(a.values[k] - b.values[k]) / std::abs(b.values[k]));
+      else
+        ASSERT_EQ(a.values[k], b.values[k]);
+    EXPECT_LE(worst, 0.02 * (1 + 1e-12));
+    // The octree is a material like any other.
+    r = runBtf({"eval", octree.string(), "--theta-i", "30", "--theta-o", "30", "--phi-i", "180"});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    r = runBtf({"info", octree.string(), "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_GT(parseJsonOutput(r)["octree"]["leaves"].get<long>(), 0);
+  }
+  // --tolerance is for octree outputs only.
+  const CommandResult r = runBtf({"convert", original.string(), (dir / "x.exr").string(), "--tolerance", "0.1"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--tolerance applies to an .octree output only"), std::string::npos) << r.output;
 }
 
 TEST(Convert, RefusesToConvertToTheSameFormat) {

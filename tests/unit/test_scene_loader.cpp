@@ -2,6 +2,7 @@
 // overrides, transforms, shading, shapes and lights, paths relative to the scene; and for every bad
 // input a FileError naming the scene file and the JSON pointer of the offending value. Also the
 // checks the Scene constructor makes of a description built in code.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -13,12 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
 #include "btf/io/merl.h"
 #include "btf/material/ggx.h"
 #include "btf/material/lafortune.h"
 #include "btf/material/lambert.h"
+#include "btf/material/octree_brdf.h"
 #include "btf/material/phong.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf/material/tabulated_brdf.h"
@@ -234,6 +237,24 @@ TEST(SceneLoader, FittedMaterial) {
     EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("/parameters/f0/2"), std::string::npos) << e.what();
   }
+}
+
+// An octree table written by `btf convert`, as a material with its lookup.
+TEST(SceneLoader, OctreeMaterial) {
+  test::TempDir dir;
+  const Lambert lambert(Rgb(0.2f, 0.4f, 0.6f));
+  writeOctreeFile(dir / "white.octree", OctreeTable::build(tabulate(lambert), 0.0));
+  json s = baseScene();
+  s["materials"]["oct"] = {{"type", "octree"}, {"file", "white.octree"}, {"lookup", "nearest"}};
+  s["shapes"][0]["material"] = "oct";
+  const SceneDescription d = loadScene(dir, s);
+  const SceneMaterial& oct = d.materials[0].name == "oct" ? d.materials[0] : d.materials[1];
+  ASSERT_NE(dynamic_cast<const OctreeBrdf*>(oct.material.get()), nullptr);
+  EXPECT_NE(oct.material->name().find("lookup=nearest"), std::string::npos);
+  const glm::vec3 wi(0, 0, 1), wo = glm::normalize(glm::vec3(0.3f, 0, 1));
+  EXPECT_NEAR(oct.material->eval(wi, wo).b, lambert.eval(wi, wo).b, 1e-6f);
+  s["materials"]["oct"]["lookup"] = "cubic";
+  EXPECT_THAT(test::errorOf([&] { (void)loadScene(dir, s); }), ::testing::HasSubstr("expected interpolated, nearest or truncated"));
 }
 
 TEST(SceneLoader, SamplerChoices) {

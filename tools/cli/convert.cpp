@@ -1,9 +1,17 @@
-// `btf convert IN OUT`: MERL .binary <-> EXR stack of half/diff slices (layout in merl_exr_stack.h);
-// an RGL .bsdf material converts to either by tabulating it into the MERL layout.
+// `btf convert IN OUT`: between the MERL-layout table formats. MERL .binary <-> EXR stack of
+// half/diff slices (layout in merl_exr_stack.h); an RGL .bsdf material or a fit converts to either
+// by tabulating it into the MERL layout; any of them converts to an octree table (.octree,
+// compress/octree_table.h) with --tolerance, and an octree back to a table.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
+#include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
+#include "btf/fit/analytic_fit.h"
 #include "commands.h"
 #include "measured_file.h"
 #include "merl_exr_stack.h"
@@ -11,15 +19,56 @@
 namespace btf::cli {
 namespace {
 
-void runConvert(const std::string& in, const std::string& out) {
-  const MeasuredFormat from = measuredFormatOf(in);
-  const MeasuredFormat to = measuredFormatOf(out);
-  if (to == MeasuredFormat::RglTensor) throw FileError(out, "convert cannot write .bsdf files (RGL tensor_file is read-only here)");
-  if (from == to) throw FileError(out, "has the same format as " + in + "; convert goes .binary -> .exr or .exr -> .binary");
-  const MerlTable table = loadMeasuredTable(in);
-  if (to == MeasuredFormat::ExrStack) writeImageStack(out, merlToExrStack(table));
-  else writeMerl(out, table);
-  std::printf("wrote %s (%s)\n", out.c_str(), describe(to).c_str());
+struct ConvertOptions {
+  std::string in, out;
+  double tolerance = 0;
+  bool tolerance_given = false;
+};
+
+// The largest relative difference of a measured cell from its stored value: the quantity the
+// tolerance bounds (|stored - cell| <= tolerance * |stored| per channel).
+double largestRelativeError(const MerlTable& table, const MerlTable& stored) {
+  double worst = 0;
+  for (std::size_t c = 0; c < MerlTable::kEntriesPerChannel; ++c) {
+    if (!table.isMeasured(c)) continue;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double s = stored.raw(ch, c), d = std::abs(s - table.raw(ch, c));
+      if (d > 0) worst = std::max(worst, s != 0 ? d / std::abs(s) : INFINITY);
+    }
+  }
+  return worst;
+}
+
+void writeOctree(const ConvertOptions& o, const MerlTable& table) {
+  const OctreeTable octree = OctreeTable::build(table, o.tolerance);
+  writeOctreeFile(o.out, octree);
+  const MerlTable stored = octree.expand();
+  const double full_bytes = double(sizeof(std::int32_t) * 3 + table.values.size() * sizeof(double));
+  const auto bytes = std::uintmax_t(std::filesystem::file_size(o.out));
+  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(MeasuredFormat::Octree).c_str());
+  std::printf("  tolerance   %g (every cell within tolerance x |stored value|, per channel)\n", o.tolerance);
+  std::printf("  tree        %zu nodes, %zu leaves (of %zu cells)\n", octree.nodes().size(), octree.leaves().size(),
+              MerlTable::kEntriesPerChannel);
+  std::printf("  bytes       %ju (%.2f%% of the %.0f of a MERL .binary)\n", bytes, 100.0 * double(bytes) / full_bytes, full_bytes);
+  std::printf("  rel_rmse    %.3g of f cos within 80 deg of the normal (as btf fit measures)\n",
+              tableRelRmse(TabulatedBrdf(std::make_shared<const MerlTable>(stored), TableLookup::Nearest), table));
+  std::printf("  max error   %.3g relative, over measured cells\n", largestRelativeError(table, stored));
+}
+
+void runConvert(const ConvertOptions& o) {
+  const MeasuredFormat from = measuredFormatOf(o.in);
+  const MeasuredFormat to = measuredFormatOf(o.out);
+  if (to == MeasuredFormat::RglTensor) throw FileError(o.out, "convert cannot write .bsdf files (RGL tensor_file is read-only here)");
+  if (to == MeasuredFormat::FittedModel) throw FileError(o.out, "convert does not write fits; btf fit does");
+  if (from == to && to != MeasuredFormat::Octree)  // an octree may be rebuilt at another tolerance
+    throw FileError(o.out, "has the same format as " + o.in + "; convert changes the format");
+  if (o.tolerance_given && to != MeasuredFormat::Octree)
+    throw Error("--tolerance applies to an .octree output only, not to " + o.out);
+  const MerlTable table = loadMeasuredTable(o.in);
+  if (to == MeasuredFormat::Octree) return writeOctree(o, table);
+  if (to == MeasuredFormat::ExrStack) writeImageStack(o.out, merlToExrStack(table));
+  else writeMerl(o.out, table);
+  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(to).c_str());
 }
 
 }  // namespace
@@ -27,13 +76,22 @@ void runConvert(const std::string& in, const std::string& out) {
 void registerConvertCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "convert",
-      "Convert MERL .binary <-> EXR stack (.exr), or tabulate an RGL .bsdf into either: 90 parts, one per theta_h index, each 180x90 RGB float of "
-      "phi_d x theta_d with f in 1/sr; unmeasured samples stay negative; 32-bit float precision");
-  auto in = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  cmd->add_option("IN", *in, "Input (.binary, .exr or .bsdf)")->required();
-  cmd->add_option("OUT", *out, "Output (.exr or .binary), written atomically")->required();
-  cmd->callback([in, out] { runConvert(*in, *out); });
+      "Convert between MERL-layout tables: MERL .binary <-> EXR stack (.exr: 90 parts, one per theta_h index, each 180x90 RGB "
+      "float of phi_d x theta_d with f in 1/sr; unmeasured samples stay negative), -> octree (.octree, lossless at tolerance "
+      "0), and from an RGL .bsdf or a btf fit .json by tabulating it");
+  auto o = std::make_shared<ConvertOptions>();
+  cmd->add_option("IN", o->in, "Input (.binary, .exr, .octree, .bsdf or .json)")->required();
+  cmd->add_option("OUT", o->out, "Output (.binary, .exr or .octree), written atomically")->required();
+  cmd->add_option_function<double>(
+         "--tolerance",
+         [o](double t) {
+           o->tolerance = t;
+           o->tolerance_given = true;
+         },
+         "Octree output: neighbouring cells merge while max - min <= t (|max| + |min|) in every channel, so each cell "
+         "stays within t x its stored value; 0 (default) is lossless")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([o] { runConvert(*o); });
 }
 
 }  // namespace btf::cli

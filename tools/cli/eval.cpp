@@ -80,7 +80,7 @@ void runEval(const EvalOptions& o) {
 void registerEvalCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Value f (1/sr, RGB) of a measured table at one pair of directions (degrees)");
   auto o = std::make_shared<EvalOptions>();
-  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json btf fit or .octree)")->required();
   const auto angle = CLI::Range(-360.0, 360.0);
   auto* ti = cmd->add_option("--theta-i", o->theta_i, "Light polar angle")->check(CLI::Range(0.0, 90.0))->capture_default_str();
   auto* pi = cmd->add_option("--phi-i", o->phi_i, "Light azimuth")->check(angle)->capture_default_str();

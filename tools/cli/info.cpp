@@ -3,7 +3,9 @@
 
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -11,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/material/albedo.h"
@@ -138,6 +141,8 @@ void runInfo(const InfoOptions& o) {
   const char* lookup_name = lookupName(o.lookup);
   const nlohmann::json albedo = albedoJson(brdf);
   const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, o.fits_of);
+  const std::optional<OctreeTable> octree =
+      format == MeasuredFormat::Octree ? std::optional<OctreeTable>(readOctreeFile(file)) : std::nullopt;
 
   if (json) {
     std::cout << nlohmann::json{
@@ -149,7 +154,12 @@ void runInfo(const InfoOptions& o) {
                      {"f_measured", {{"min", rgbJson(stats.min)}, {"max", rgbJson(stats.max)}, {"mean", rgbJson(stats.mean)}}},
                      {"lookup", lookup_name},
                      {"albedo", albedo},
-                     {"published_fits", fits ? tools::comparisonJson(*fits) : nlohmann::json()}}
+                     {"published_fits", fits ? tools::comparisonJson(*fits) : nlohmann::json()},
+                     {"octree", octree ? nlohmann::json{{"nodes", octree->nodes().size()},
+                                                        {"leaves", octree->leaves().size()},
+                                                        {"tolerance", octree->tolerance()},
+                                                        {"file_bytes", std::filesystem::file_size(file)}}
+                                       : nlohmann::json()}}
                      .dump(2)
               << "\n";
     return;
@@ -158,6 +168,9 @@ void runInfo(const InfoOptions& o) {
   std::printf("  format      %s\n", describe(format).c_str());
   if (format == MeasuredFormat::FittedModel)  // shown tabulated below, like any table
     std::printf("  model       %s\n", loadMeasuredMaterial(file, o.lookup)->name().c_str());
+  if (octree)
+    std::printf("  octree      %zu nodes, %zu leaves, tolerance %g, %ju bytes on disk\n", octree->nodes().size(),
+                octree->leaves().size(), octree->tolerance(), std::uintmax_t(std::filesystem::file_size(file)));
   std::printf("  dims        %d x %d x %d (theta_h x theta_d x phi_d), RGB\n", MerlTable::kThetaHalfRes,
               MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes);
   std::printf("  unmeasured  %zu of %zu samples (%.2f%%)\n", unmeasured, total, percent);
@@ -178,7 +191,7 @@ void registerInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Facts about a measured material: format, dims or fields, value ranges, "
                                          "unmeasured samples, albedo at theta_o = 0, 30, 60, 75 deg");
   auto o = std::make_shared<InfoOptions>();
-  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL), BTF image folder or .btfz")->required();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json fit, .octree), BTF image folder or .btfz")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->add_option_function<std::string>(
          "--lookup",

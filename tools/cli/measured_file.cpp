@@ -1,8 +1,10 @@
 #include "measured_file.h"
 
+#include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
 #include "btf/fit/fit_file.h"
 #include "btf/io/image.h"
+#include "btf/material/octree_brdf.h"
 #include "btf/material/rgl_brdf.h"
 #include "merl_exr_stack.h"
 
@@ -14,9 +16,10 @@ MeasuredFormat measuredFormatOf(const std::filesystem::path& path) {
   if (ext == ".exr") return MeasuredFormat::ExrStack;
   if (ext == ".bsdf") return MeasuredFormat::RglTensor;
   if (ext == ".json") return MeasuredFormat::FittedModel;
+  if (ext == ".octree") return MeasuredFormat::Octree;
   const std::string what = ext.empty() ? "has no extension" : "has the unknown extension '" + ext + "'";
   throw FileError(path, what + " (expected .binary for a MERL table, .exr for a btf convert stack, .bsdf for an RGL material "
-                               "or .json for a btf fit model)");
+                               "a .json btf fit model or an .octree table)");
 }
 
 std::string describe(MeasuredFormat format) {
@@ -25,6 +28,7 @@ std::string describe(MeasuredFormat format) {
     case MeasuredFormat::ExrStack: return "EXR stack of MERL half/diff slices (btf convert)";
     case MeasuredFormat::RglTensor: return "RGL measured material (tensor_file, Dupuy & Jakob 2018)";
     case MeasuredFormat::FittedModel: return "analytic model fitted by btf fit";
+    case MeasuredFormat::Octree: return "octree table (MERL layout, btf convert --tolerance)";
   }
   return "unknown";
 }
@@ -35,6 +39,7 @@ MerlTable loadMeasuredTable(const std::filesystem::path& path) {
     case MeasuredFormat::ExrStack: return exrStackToMerl(path, readImageStack(path));
     case MeasuredFormat::RglTensor: return tabulate(RglBrdf(path));
     case MeasuredFormat::FittedModel: return tabulate(*makeAnalyticMaterial(readFitFile(path)));
+    case MeasuredFormat::Octree: return readOctreeFile(path).expand();
   }
   throw FileError(path, "unsupported format");
 }
@@ -42,6 +47,8 @@ MerlTable loadMeasuredTable(const std::filesystem::path& path) {
 std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup) {
   if (measuredFormatOf(path) == MeasuredFormat::RglTensor) return std::make_unique<RglBrdf>(path);
   if (measuredFormatOf(path) == MeasuredFormat::FittedModel) return makeAnalyticMaterial(readFitFile(path));
+  if (measuredFormatOf(path) == MeasuredFormat::Octree)
+    return std::make_unique<OctreeBrdf>(std::make_shared<const OctreeTable>(readOctreeFile(path)), lookup);
   return std::make_unique<TabulatedBrdf>(std::make_shared<const MerlTable>(loadMeasuredTable(path)), lookup);
 }
 

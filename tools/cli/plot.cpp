@@ -121,7 +121,7 @@ void registerPlotCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("plot", "PNG of a BRDF slice (log f*cos over theta_h x theta_d at phi_d = 90 deg) "
                                          "beside a sphere rendered under one directional light");
   auto o = std::make_shared<PlotOptions>();
-  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json btf fit or .octree)")->required();
   cmd->add_option("-o,--output", o->output, "Output PNG, written atomically")->required();
   cmd->add_option("--size", o->size, "Pixel size of each square panel")->check(CLI::Range(64, 2048))->capture_default_str();
   cmd->add_option("--light-theta", o->light_theta, "Light angle from the view direction (deg)")

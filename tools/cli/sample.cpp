@@ -125,7 +125,7 @@ void registerSampleCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("sample", "Draw N samples for one outgoing direction, chi-square test them against the "
                                            "sampler's pdf, and write a PNG of histogram, pdf and difference");
   auto o = std::make_shared<SampleOptions>();
-  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, or .bsdf RGL)")->required();
+  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json btf fit or .octree)")->required();
   cmd->add_option("--theta-o", o->theta_o, "Outgoing zenith angle (deg, [0, 90))")->required();
   cmd->add_option("--phi-o", o->phi_o, "Outgoing azimuth (deg)")->capture_default_str();
   cmd->add_option("--sampler", o->sampler, "One of: " + samplerChoiceNames() + " (material: the file's own sampler)")

@@ -23,6 +23,7 @@
 #include "btf/material/ggx.h"
 #include "btf/material/lafortune.h"
 #include "btf/material/lambert.h"
+#include "btf/material/octree_brdf.h"
 #include "btf/material/phong.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf/material/tabulated_brdf.h"
@@ -205,8 +206,7 @@ std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::str
   } catch (const Error& e) {
     m.fail(e.what());
   }
-  if (type == "merl") {
-    m.allowOnly({"type", "file", "lookup", "sampler"});
+  auto tableLookup = [&] {
     TableLookup lookup = TableLookup::Interpolated;
     if (m.has("lookup")) {
       const std::string name = m["lookup"].string();
@@ -214,7 +214,17 @@ std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::str
       else if (name == "truncated") lookup = TableLookup::Truncated;
       else if (name != "interpolated") m["lookup"].fail("expected interpolated, nearest or truncated");
     }
+    return lookup;
+  };
+  if (type == "merl") {
+    m.allowOnly({"type", "file", "lookup", "sampler"});
+    const TableLookup lookup = tableLookup();
     return std::make_shared<TabulatedBrdf>(std::make_shared<const MerlTable>(readMerl(m["file"].existingPath())), lookup);
+  }
+  if (type == "octree") {  // a table written by `btf convert ... .octree` (compress/octree_table.h)
+    m.allowOnly({"type", "file", "lookup", "sampler"});
+    const TableLookup lookup = tableLookup();
+    return std::make_shared<OctreeBrdf>(std::make_shared<const OctreeTable>(readOctreeFile(m["file"].existingPath())), lookup);
   }
   if (type == "rgl") {
     m.allowOnly({"type", "file", "sampler"});
@@ -480,7 +490,7 @@ void loadLights(const Node& list, SceneDescription& scene) {
 }  // namespace
 
 std::vector<std::string> sceneMaterialTypes() {
-  return {"lambert", "phong", "ggx", "ward", "lafortune", "merl", "rgl", "merl-fit", "btf"};
+  return {"lambert", "phong", "ggx", "ward", "lafortune", "merl", "octree", "rgl", "fitted", "merl-fit", "btf"};
 }
 
 SceneDescription loadSceneDescription(const std::filesystem::path& file, const SceneLoadOptions& options) {

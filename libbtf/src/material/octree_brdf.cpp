@@ -1,0 +1,95 @@
+#include "btf/material/octree_brdf.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "btf/core/error.h"
+#include "btf/sampling/warp.h"
+#include "table_coordinates.h"
+
+namespace btf {
+namespace {
+
+constexpr int kNh = MerlTable::kThetaHalfRes;
+constexpr int kNd = MerlTable::kThetaDiffRes;
+constexpr int kNp = MerlTable::kPhiDiffRes;
+
+// f of one cell and whether it is measured.
+struct CellValue {
+  Rgb f;
+  bool measured;
+};
+
+CellValue cellValue(const OctreeTable& octree, int i, int j, int k) {
+  const OctreeTable::Leaf& raw = octree.raw(i, j, k);
+  const bool measured = raw[0] >= 0 && raw[1] >= 0 && raw[2] >= 0;
+  if (!measured) return {Rgb(0.0f), false};
+  return {Rgb(float(raw[0] * MerlTable::kChannelScale[0]), float(raw[1] * MerlTable::kChannelScale[1]),
+              float(raw[2] * MerlTable::kChannelScale[2])),
+          true};
+}
+
+}  // namespace
+
+OctreeBrdf::OctreeBrdf(std::shared_ptr<const OctreeTable> octree, TableLookup lookup)
+    : octree_(std::move(octree)), lookup_(lookup) {
+  if (!octree_) throw Error("OctreeBrdf: no octree given");
+}
+
+Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (!(wi.z > 0 && wo.z > 0)) return Rgb(0.0f);
+  const TableCoordinates u = tableCoordinates(wi, wo);
+  if (lookup_ != TableLookup::Interpolated) {
+    const bool nearest = lookup_ == TableLookup::Nearest;
+    const float r = nearest ? 0.5f : 0.0f;
+    int k = int(u.u_p + r);
+    if (k >= kNp) k -= kNp;
+    return cellValue(*octree_, std::min(int(u.u_h + r), kNh - 1), std::min(int(u.u_d + r), kNd - 1), k).f;
+  }
+  // Trilinear over the measured corners, as TabulatedBrdf::evalInterpolated.
+  const int i0 = std::min(int(u.u_h), kNh - 1), j0 = std::min(int(u.u_d), kNd - 1);
+  const int i[2] = {i0, std::min(i0 + 1, kNh - 1)}, j[2] = {j0, std::min(j0 + 1, kNd - 1)};
+  const float th = std::min(u.u_h - float(i0), 1.0f), td = std::min(u.u_d - float(j0), 1.0f);
+  int k0 = int(u.u_p);
+  const float tp = u.u_p - float(k0);
+  if (k0 >= kNp) k0 -= kNp;
+  const int k[2] = {k0, k0 + 1 == kNp ? 0 : k0 + 1};
+  Rgb sum(0.0f);
+  float weight_sum = 0;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c) {
+        const float w = (a ? th : 1 - th) * (b ? td : 1 - td) * (c ? tp : 1 - tp);
+        if (w == 0) continue;
+        const CellValue v = cellValue(*octree_, i[a], j[b], k[c]);
+        if (!v.measured) continue;
+        sum += w * v.f;
+        weight_sum += w;
+      }
+  if (weight_sum > 0) return sum / weight_sum;
+  int kn = int(u.u_p + 0.5f);
+  if (kn >= kNp) kn -= kNp;
+  return cellValue(*octree_, std::min(int(u.u_h + 0.5f), kNh - 1), std::min(int(u.u_d + 0.5f), kNd - 1), kn).f;
+}
+
+std::optional<BsdfSample> OctreeBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  const glm::vec3 wi = squareToCosineHemisphere(u);
+  const float pdf = cosineHemispherePdf(wi);
+  if (!(pdf > 0)) return std::nullopt;
+  return BsdfSample{wi, eval(wi, wo) * (wi.z / pdf), pdf};
+}
+
+float OctreeBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
+  if (!(wo.z > 0)) return 0.0f;
+  return cosineHemispherePdf(wi);
+}
+
+std::string OctreeBrdf::name() const {
+  const char* lookup = lookup_ == TableLookup::Nearest ? "nearest" : lookup_ == TableLookup::Truncated ? "truncated" : "interpolated";
+  char text[96];
+  std::snprintf(text, sizeof text, "octree(tolerance=%g, lookup=%s)", octree_->tolerance(), lookup);
+  return text;
+}
+
+}  // namespace btf
