@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "btf/compress/octree_table.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
 #include "btf/core/btf_directions.h"
@@ -248,6 +249,29 @@ void mesh(const fs::path& out) {
   put(out / "binary.ply", binary);
 }
 
+// Octree tables of a few KB: a constant table (the root alone), one with a block of holes and a
+// step (a small tree), and damaged copies.
+void octree(const fs::path& out) {
+  btf::MerlTable table;
+  for (std::size_t c = 0; c < btf::MerlTable::kEntriesPerChannel; ++c)
+    for (int ch = 0; ch < 3; ++ch) table.raw(ch, c) = 30.0 + ch;
+  const fs::path scratch = out / "scratch.octree";
+  btf::writeOctreeFile(scratch, btf::OctreeTable::build(table, 0.0));
+  put(out / "constant.octree", bytesOf(scratch));
+  for (int i = 0; i < btf::MerlTable::kThetaHalfRes; ++i)
+    for (int j = 0; j < btf::MerlTable::kThetaDiffRes; ++j)
+      for (int k = 0; k < btf::MerlTable::kPhiDiffRes; ++k) {
+        const std::size_t c = btf::MerlTable::index(i, j, k);
+        if (i >= 45 && j >= 45) table.setUnmeasured(c);  // boundaries at midpoints: a tree of a few nodes
+        else if (i < 11) table.raw(1, c) = 900.0 + (k >= 90 ? 100 : 0) + (j == 7 ? 50 : 0);
+      }
+  btf::writeOctreeFile(scratch, btf::OctreeTable::build(table, 0.0));
+  const Bytes step = bytesOf(scratch);
+  put(out / "step-and-holes.octree", step);
+  put(out / "truncated.octree", prefix(step, step.size() / 2));
+  fs::remove(scratch);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -257,7 +281,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   for (const char* target : {"fuzz_merl", "fuzz_rgl", "fuzz_btfz", "fuzz_btf_json", "fuzz_btf_image", "fuzz_exr_stack",
-                             "fuzz_scene", "fuzz_mesh"})
+                             "fuzz_scene", "fuzz_mesh", "fuzz_octree"})
     fs::create_directories(out / target);
   merl(out / "fuzz_merl");
   rgl(out / "fuzz_rgl");
@@ -267,5 +291,6 @@ int main(int argc, char** argv) {
   exrStack(out / "fuzz_exr_stack");
   scene(out / "fuzz_scene");
   mesh(out / "fuzz_mesh");
+  octree(out / "fuzz_octree");
   return 0;
 }

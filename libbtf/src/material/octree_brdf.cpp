@@ -14,20 +14,23 @@ constexpr int kNh = MerlTable::kThetaHalfRes;
 constexpr int kNd = MerlTable::kThetaDiffRes;
 constexpr int kNp = MerlTable::kPhiDiffRes;
 
-// f of one cell and whether it is measured.
+// f of one cell (in double: blends of values near the float limit must not overflow) and whether
+// it is measured.
 struct CellValue {
-  Rgb f;
+  glm::dvec3 f;
   bool measured;
 };
 
 CellValue cellValue(const OctreeTable& octree, int i, int j, int k) {
   const OctreeTable::Leaf& raw = octree.raw(i, j, k);
   const bool measured = raw[0] >= 0 && raw[1] >= 0 && raw[2] >= 0;
-  if (!measured) return {Rgb(0.0f), false};
-  return {Rgb(float(raw[0] * MerlTable::kChannelScale[0]), float(raw[1] * MerlTable::kChannelScale[1]),
-              float(raw[2] * MerlTable::kChannelScale[2])),
+  if (!measured) return {glm::dvec3(0.0), false};
+  return {glm::dvec3(raw[0] * MerlTable::kChannelScale[0], raw[1] * MerlTable::kChannelScale[1],
+                     raw[2] * MerlTable::kChannelScale[2]),
           true};
 }
+
+Rgb toRgb(const glm::dvec3& f) { return Rgb(float(f.x), float(f.y), float(f.z)); }
 
 }  // namespace
 
@@ -44,7 +47,7 @@ Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const 
     const float r = nearest ? 0.5f : 0.0f;
     int k = int(u.u_p + r);
     if (k >= kNp) k -= kNp;
-    return cellValue(*octree_, std::min(int(u.u_h + r), kNh - 1), std::min(int(u.u_d + r), kNd - 1), k).f;
+    return toRgb(cellValue(*octree_, std::min(int(u.u_h + r), kNh - 1), std::min(int(u.u_d + r), kNd - 1), k).f);
   }
   // Trilinear over the measured corners, as TabulatedBrdf::evalInterpolated.
   const int i0 = std::min(int(u.u_h), kNh - 1), j0 = std::min(int(u.u_d), kNd - 1);
@@ -54,22 +57,22 @@ Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const 
   const float tp = u.u_p - float(k0);
   if (k0 >= kNp) k0 -= kNp;
   const int k[2] = {k0, k0 + 1 == kNp ? 0 : k0 + 1};
-  Rgb sum(0.0f);
-  float weight_sum = 0;
+  glm::dvec3 sum(0.0);
+  double weight_sum = 0;
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
       for (int c = 0; c < 2; ++c) {
-        const float w = (a ? th : 1 - th) * (b ? td : 1 - td) * (c ? tp : 1 - tp);
+        const double w = double((a ? th : 1 - th) * (b ? td : 1 - td) * (c ? tp : 1 - tp));
         if (w == 0) continue;
         const CellValue v = cellValue(*octree_, i[a], j[b], k[c]);
         if (!v.measured) continue;
         sum += w * v.f;
         weight_sum += w;
       }
-  if (weight_sum > 0) return sum / weight_sum;
+  if (weight_sum > 0) return toRgb(sum / weight_sum);
   int kn = int(u.u_p + 0.5f);
   if (kn >= kNp) kn -= kNp;
-  return cellValue(*octree_, std::min(int(u.u_h + 0.5f), kNh - 1), std::min(int(u.u_d + 0.5f), kNd - 1), kn).f;
+  return toRgb(cellValue(*octree_, std::min(int(u.u_h + 0.5f), kNh - 1), std::min(int(u.u_d + 0.5f), kNd - 1), kn).f);
 }
 
 std::optional<BsdfSample> OctreeBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
