@@ -22,11 +22,7 @@ float standardNormal(Rng& rng) {
 
 // Largest polar angle of the light and view directions a cell stands for.
 float steepestTheta(int theta_h, int theta_d, int phi_d) {
-  HalfDiff hd;
-  hd.theta_h = float(MerlTable::thetaHalfOf(theta_h));
-  hd.theta_d = float(MerlTable::thetaDiffOf(theta_d));
-  hd.phi_d = float(MerlTable::phiDiffOf(phi_d));
-  const DirectionPair pair = fromHalfDiff(hd);
+  const DirectionPair pair = MerlTable::directionsOf(theta_h, theta_d, phi_d);
   return std::max(sphericalTheta(pair.wi), sphericalTheta(pair.wo));
 }
 

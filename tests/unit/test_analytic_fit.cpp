@@ -33,22 +33,6 @@ glm::vec3 randomUpperDirection(std::mt19937& rng) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-fit::FitSample sampleOf(const glm::vec3& wi, const glm::vec3& wo) {
-  fit::FitSample s;
-  s.cos_i = wi.z;
-  s.cos_o = wo.z;
-  s.tan2_i = (1.0 - s.cos_i * s.cos_i) / (s.cos_i * s.cos_i);
-  s.tan2_o = (1.0 - s.cos_o * s.cos_o) / (s.cos_o * s.cos_o);
-  const glm::dvec3 sum = glm::dvec3(wi) + glm::dvec3(wo);
-  s.sum_length2 = glm::dot(sum, sum);
-  s.half_length = 0.5 * std::sqrt(s.sum_length2);
-  s.h_z2 = sum.z * sum.z / s.sum_length2;
-  s.h_xy2 = 1.0 - s.h_z2;
-  s.product_xy = double(wi.x) * wo.x + double(wi.y) * wo.y;
-  s.product_z = double(wi.z) * wo.z;
-  return s;
-}
-
 void expectClose(const double* model, const Rgb& material, const char* what) {
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(model[c], material[c], 2e-4 * std::max(1.0, double(material[c]))) << what << " channel " << c;
@@ -59,7 +43,7 @@ TEST(AnalyticFit, FitterFormulasMatchTheMaterials) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 200; ++trial) {
     const glm::vec3 wi = randomUpperDirection(rng), wo = randomUpperDirection(rng);
-    const fit::FitSample s = sampleOf(wi, wo);
+    const fit::FitSample s = fit::geometryOf(wi, wo);
     const double alpha = 0.05 + 0.01 * (trial % 40);
     {
       const double p[7] = {0.2, 0.5, 0.7, 0.04, 0.3, 0.9, std::log(alpha)};

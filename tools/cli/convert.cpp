@@ -50,8 +50,8 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
   std::printf("  tree        %zu nodes, %zu leaves (of %zu cells)\n", octree.nodes().size(), octree.leaves().size(),
               MerlTable::kEntriesPerChannel);
   std::printf("  bytes       %ju (%.2f%% of the %.0f of a MERL .binary)\n", bytes, 100.0 * double(bytes) / full_bytes, full_bytes);
-  std::printf("  rel_rmse    %.3g of f cos within 80 deg of the normal (as btf fit measures)\n",
-              tableRelRmse(TabulatedBrdf(std::make_shared<const MerlTable>(stored), TableLookup::Nearest), table));
+  std::printf("  rel_rmse    %.3g of f cos within 80 deg of the normal, cell by cell (as btf fit measures)\n",
+              tableRelRmse(stored, table));
   std::printf("  max error   %.3g relative, over measured cells\n", largestRelativeError(table, stored));
 }
 

@@ -29,33 +29,8 @@ constexpr int kThetaDiffStride = 3;
 constexpr int kPhiDiffStride = 6;
 constexpr double kRobustScale = 0.1;  // SoftLOneLoss scale, in units of the log residual
 
-struct CellDirections {
-  glm::vec3 wi, wo;
-};
-
-CellDirections directionsOf(int theta_h, int theta_d, int phi_d) {
-  HalfDiff hd;
-  hd.theta_h = float(MerlTable::thetaHalfOf(theta_h));
-  hd.theta_d = float(MerlTable::thetaDiffOf(theta_d));
-  hd.phi_d = float(MerlTable::phiDiffOf(phi_d));
-  const DirectionPair pair = fromHalfDiff(hd);
-  return {pair.wi, pair.wo};
-}
-
 FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
-  FitSample s;
-  s.cos_i = wi.z;
-  s.cos_o = wo.z;
-  s.tan2_i = (1.0 - s.cos_i * s.cos_i) / (s.cos_i * s.cos_i);
-  s.tan2_o = (1.0 - s.cos_o * s.cos_o) / (s.cos_o * s.cos_o);
-  const glm::dvec3 sum = glm::dvec3(wi) + glm::dvec3(wo);
-  s.sum_length2 = glm::dot(sum, sum);
-  const double length = std::sqrt(s.sum_length2);
-  s.half_length = 0.5 * length;
-  s.h_z2 = (sum.z / length) * (sum.z / length);
-  s.h_xy2 = std::max(0.0, 1.0 - s.h_z2);
-  s.product_xy = double(wi.x) * wo.x + double(wi.y) * wo.y;
-  s.product_z = double(wi.z) * wo.z;
+  FitSample s = fit::geometryOf(wi, wo);
   for (int c = 0; c < 3; ++c) s.target[c] = std::log1p(s.cos_i * double(f[c]));
   return s;
 }
@@ -73,7 +48,7 @@ SampleSet sampleTable(const MerlTable& table) {
     for (int j = 0; j < MerlTable::kThetaDiffRes; j += kThetaDiffStride)
       for (int k = 0; k < MerlTable::kPhiDiffRes; k += kPhiDiffStride) {
         const std::size_t cell = MerlTable::index(i, j, k);
-        const CellDirections d = directionsOf(i, j, k);
+        const DirectionPair d = MerlTable::directionsOf(i, j, k);
         if (!table.isMeasured(cell) || !(d.wi.z > 1e-4f) || !(d.wo.z > 1e-4f)) {
           ++set.excluded;
           continue;
@@ -346,7 +321,12 @@ AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& option
   return fit;
 }
 
-double tableRelRmse(const Material& model, const MerlTable& table) {
+namespace {
+
+// rel_rmse of f cos over the measured cells within 80 degrees of the normal, with `valueAt(i, j, k,
+// directions)` giving the compared value of each cell.
+template <class ValueAt>
+double relRmseOverCells(const MerlTable& table, const ValueAt& valueAt) {
   // Within 80 degrees of the normal, as the README's tabulation errors: tabulated RGL files reach
   // 6e5 1/sr in a few cells at grazing angles, which would otherwise be the whole measure.
   const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
@@ -358,10 +338,10 @@ double tableRelRmse(const Material& model, const MerlTable& table) {
       for (int k = 0; k < MerlTable::kPhiDiffRes; ++k) {
         const std::size_t cell = MerlTable::index(i, j, k);
         if (!table.isMeasured(cell)) continue;
-        const CellDirections d = directionsOf(i, j, k);
+        const DirectionPair d = MerlTable::directionsOf(i, j, k);
         if (!(d.wi.z >= kCos80) || !(d.wo.z >= kCos80)) continue;
         const Rgb data = table.reflectance(cell);
-        const Rgb f = model.eval(d.wi, d.wo);
+        const Rgb f = valueAt(i, j, k, d);
         for (int c = 0; c < 3; ++c) {
           const double e = double(d.wi.z) * (double(f[c]) - double(data[c]));
           const double r = double(d.wi.z) * double(data[c]);
@@ -377,6 +357,18 @@ double tableRelRmse(const Material& model, const MerlTable& table) {
     reference += row[1];
   }
   return reference > 0 ? std::sqrt(error / reference) : 0.0;
+}
+
+}  // namespace
+
+double tableRelRmse(const Material& model, const MerlTable& table) {
+  return relRmseOverCells(table, [&](int, int, int, const DirectionPair& d) { return model.eval(d.wi, d.wo); });
+}
+
+double tableRelRmse(const MerlTable& stored, const MerlTable& table) {
+  return relRmseOverCells(table, [&](int i, int j, int k, const DirectionPair&) {
+    return stored.reflectance(MerlTable::index(i, j, k));
+  });
 }
 
 }  // namespace btf

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <glm/glm.hpp>
+
 namespace btf::fit {
 
 // Everything the models need of one direction pair, computed once in double.
@@ -21,6 +23,24 @@ struct FitSample {
   double product_z = 0;           // wi.z wo.z
   double target[3] = {};          // ln(1 + cos_i f_data) per channel
 };
+
+// The geometry of a direction pair as the formulas below read it (target left at 0).
+inline FitSample geometryOf(const glm::vec3& wi, const glm::vec3& wo) {
+  FitSample s;
+  s.cos_i = wi.z;
+  s.cos_o = wo.z;
+  s.tan2_i = (1.0 - s.cos_i * s.cos_i) / (s.cos_i * s.cos_i);
+  s.tan2_o = (1.0 - s.cos_o * s.cos_o) / (s.cos_o * s.cos_o);
+  const glm::dvec3 sum = glm::dvec3(wi) + glm::dvec3(wo);
+  s.sum_length2 = glm::dot(sum, sum);
+  const double length = std::sqrt(s.sum_length2);
+  s.half_length = 0.5 * length;
+  s.h_z2 = (sum.z / length) * (sum.z / length);
+  s.h_xy2 = std::max(0.0, 1.0 - s.h_z2);
+  s.product_xy = double(wi.x) * wo.x + double(wi.y) * wo.y;
+  s.product_z = double(wi.z) * wo.z;
+  return s;
+}
 
 inline constexpr double kFitPi = std::numbers::pi;
 

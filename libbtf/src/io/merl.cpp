@@ -84,6 +84,14 @@ void checkHeader(const fs::path& path, const std::array<std::int32_t, 3>& dims) 
 
 }  // namespace
 
+DirectionPair MerlTable::directionsOf(int theta_h, int theta_d, int phi_d) {
+  HalfDiff hd;
+  hd.theta_h = float(thetaHalfOf(theta_h));
+  hd.theta_d = float(thetaDiffOf(theta_d));
+  hd.phi_d = float(phiDiffOf(phi_d));
+  return fromHalfDiff(hd);
+}
+
 double MerlTable::thetaHalfOf(int i) {
   const double t = double(i) / kThetaHalfRes;
   return t * t * kHalfPi;

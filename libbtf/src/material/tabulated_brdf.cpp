@@ -172,13 +172,9 @@ MerlTable tabulate(const Material& material) {
   // Each cell depends only on its own angles, so any split over threads gives the same table.
   tbb::parallel_for(tbb::blocked_range<int>(0, kNh), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i != range.end(); ++i) {
-      HalfDiff hd;
-      hd.theta_h = float(MerlTable::thetaHalfOf(i));
       for (int j = 0; j < kNd; ++j) {
-        hd.theta_d = float(MerlTable::thetaDiffOf(j));
         for (int k = 0; k < kNp; ++k) {
-          hd.phi_d = float(MerlTable::phiDiffOf(k));
-          const DirectionPair pair = fromHalfDiff(hd);
+          const DirectionPair pair = MerlTable::directionsOf(i, j, k);
           const std::size_t c = MerlTable::index(i, j, k);
           if (!(pair.wi.z > 0 && pair.wo.z > 0)) {
             table.setUnmeasured(c);

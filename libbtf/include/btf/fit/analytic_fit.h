@@ -93,5 +93,10 @@ AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& option
 //   sqrt(sum (cos_i (f_model - f_table))^2) / sqrt(sum (cos_i f_table)^2).
 // The measure of `btf fit` and of the README's comparison with the published fits.
 double tableRelRmse(const Material& model, const MerlTable& table);
+// The same measure between two tables, cell by cell (a compressed table against its original).
+// Comparing through a lookup would not do: the cells of theta_d = 0 all stand for one direction
+// pair, so a lookup reads one of them for all, and on noisy tables even a lossless copy would
+// show an error.
+double tableRelRmse(const MerlTable& stored, const MerlTable& table);
 
 }  // namespace btf

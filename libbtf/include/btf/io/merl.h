@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "btf/core/half_diff.h"
 #include "btf/core/rgb.h"
 
 namespace btf {
@@ -58,6 +59,9 @@ struct MerlTable {
   static double thetaHalfOf(int i);
   static double thetaDiffOf(int j);
   static double phiDiffOf(int k);
+  // The light and view directions a cell stands for (its angles above, phi_h = 0): what
+  // tabulation evaluates and fitting compares against. May lie below the horizon at grazing cells.
+  static DirectionPair directionsOf(int theta_h, int theta_d, int phi_d);
   // Continuous table coordinates of angles (inverse of the above), unclamped.
   static double thetaHalfCoordinate(double theta_h);
   static double thetaDiffCoordinate(double theta_d);
