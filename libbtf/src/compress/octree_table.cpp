@@ -147,6 +147,26 @@ bool overlaps(const Box& a, const Box& b) {
   return true;
 }
 
+// Depth-first walk from the root (the last node) of a tree already checked by fromParts or
+// made by build: `visit(node, box)` sees each node reached and returns whether to go into its
+// children (ignored at leaves).
+template <class Visit>
+void walkTree(const std::vector<Node>& nodes, Visit&& visit) {
+  struct Step {
+    std::uint32_t node;
+    Box box;
+  };
+  std::vector<Step> stack{{std::uint32_t(nodes.size() - 1), Box{}}};
+  while (!stack.empty()) {
+    const Step step = stack.back();
+    stack.pop_back();
+    const Node& n = nodes[step.node];
+    if (!visit(n, step.box) || (n.ref & OctreeTable::kLeaf)) continue;
+    const std::array<int, 3> s = octreeSplits(step.box);
+    for (int c = 0; c < s[0] * s[1] * s[2]; ++c) stack.push_back({n.ref + std::uint32_t(c), octreeChild(step.box, c)});
+  }
+}
+
 }  // namespace
 
 std::array<int, 3> octreeSplits(const Box& box) {
@@ -279,49 +299,30 @@ const Leaf& OctreeTable::raw(int theta_h, int theta_d, int phi_d) const {
 
 MerlTable OctreeTable::expand() const {
   MerlTable table;
-  struct Visit {
-    std::uint32_t node;
-    Box box;
-  };
-  std::vector<Visit> stack{{std::uint32_t(nodes_.size() - 1), Box{}}};
-  while (!stack.empty()) {
-    const Visit v = stack.back();
-    stack.pop_back();
-    const Node& n = nodes_[v.node];
-    if (n.ref & kLeaf) {
-      const Leaf& value = leaves_[n.ref & ~kLeaf];
-      for (int i = v.box.lo[0]; i < v.box.hi[0]; ++i)
-        for (int j = v.box.lo[1]; j < v.box.hi[1]; ++j)
-          for (int k = v.box.lo[2]; k < v.box.hi[2]; ++k)
-            for (int ch = 0; ch < 3; ++ch) table.raw(ch, MerlTable::index(i, j, k)) = value[ch];
-      continue;
-    }
-    const std::array<int, 3> s = octreeSplits(v.box);
-    for (int c = 0; c < s[0] * s[1] * s[2]; ++c) stack.push_back({n.ref + std::uint32_t(c), octreeChild(v.box, c)});
-  }
+  walkTree(nodes_, [&](const Node& n, const Box& box) {
+    if (!(n.ref & kLeaf)) return true;
+    const Leaf& value = leaves_[n.ref & ~kLeaf];
+    for (int i = box.lo[0]; i < box.hi[0]; ++i)
+      for (int j = box.lo[1]; j < box.hi[1]; ++j)
+        for (int k = box.lo[2]; k < box.hi[2]; ++k)
+          for (int ch = 0; ch < 3; ++ch) table.raw(ch, MerlTable::index(i, j, k)) = value[ch];
+    return false;
+  });
   return table;
 }
 
 float OctreeTable::maxOver(const Box& query) const {
   float result = 0;
-  struct Visit {
-    std::uint32_t node;
-    Box box;
-  };
-  std::vector<Visit> stack{{std::uint32_t(nodes_.size() - 1), Box{}}};
-  while (!stack.empty()) {
-    const Visit v = stack.back();
-    stack.pop_back();
-    const Node& n = nodes_[v.node];
-    // Nothing below can raise the result, or the node is wholly inside: its range answers.
-    if (n.f_max <= result || !overlaps(v.box, query)) continue;
-    if ((n.ref & kLeaf) || contains(query, v.box)) {
+  walkTree(nodes_, [&](const Node& n, const Box& box) {
+    // Nothing below can raise the result, or the box misses the query.
+    if (n.f_max <= result || !overlaps(box, query)) return false;
+    // A leaf, or a node wholly inside the query: its range answers.
+    if ((n.ref & kLeaf) || contains(query, box)) {
       result = n.f_max;
-      continue;
+      return false;
     }
-    const std::array<int, 3> s = octreeSplits(v.box);
-    for (int c = 0; c < s[0] * s[1] * s[2]; ++c) stack.push_back({n.ref + std::uint32_t(c), octreeChild(v.box, c)});
-  }
+    return true;
+  });
   return result;
 }
 
