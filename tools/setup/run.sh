@@ -68,6 +68,11 @@ demo() {
   "$bin/btf" plot "$out/plastic-red.binary" -o "$out/plastic-red.png"
   echo "== importance sampling it with a Douglas-Peucker CDF, checked by chi-square"
   "$bin/btf" sample "$out/plastic-red.binary" --theta-o 40 --sampler dp-cdf -n 200000 -o "$out/plastic-red-samples.png"
+  echo "== the smallest models of it: a GGX fitted with Ceres (parameters, rel_rmse, albedo beside the data's)"
+  echo "   and the table as an octree within 10% per cell (bytes and rel_rmse against the full table)"
+  "$bin/btf" fit "$out/plastic-red.binary" --model ggx -o "$out/plastic-red-ggx.json"
+  "$bin/btf" plot "$out/plastic-red-ggx.json" -o "$out/plastic-red-ggx.png"
+  "$bin/btf" convert "$out/plastic-red.binary" "$out/plastic-red.octree" --tolerance 0.1
   echo "== a synthetic measured BTF (virtual gonioreflectometer, 16 x 16 texels, 81 x 81 images)"
   "$bin/btf-datagen" btf --pattern fabric --size 16 --seed 1 --format png16 -o "$out/fabric-btf"
   "$bin/btf" info "$out/fabric-btf"
