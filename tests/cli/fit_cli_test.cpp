@@ -30,6 +30,15 @@ TEST(FitCli, FitsAGeneratedTableAndTheModelIsAMaterialFile) {
   EXPECT_THAT(r.output, HasSubstr("fitted"));
   r = runBtf({"plot", model.string(), "-o", (dir / "plot.png").string()});
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = runBtf({"eval", model.string(), "--theta-i", "30", "--theta-o", "30", "--phi-i", "180", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(parseJsonOutput(r)["lookup"], "analytic");
+  r = runBtf({"eval", model.string(), "--lookup", "nearest"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("a fitted model is evaluated by its formula"));
+  r = runBtf({"sample", model.string(), "--theta-o", "40", "-n", "20000", "-o", (dir / "samples.png").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "samples.png"));
 }
 
 // With the generator's measurement effects (3% lognormal noise, 0.5% holes, a 2 degree grazing gap,

@@ -34,6 +34,8 @@ void runEval(const EvalOptions& o) {
     throw Error("--lookup does not apply to " + o.file +
                 ": an RGL .bsdf file is evaluated through its own parameterization (convert it to a MERL table "
                 "with `btf convert` to choose a table lookup)");
+  if (format == MeasuredFormat::FittedModel && o.lookup_given)
+    throw Error("--lookup does not apply to " + o.file + ": a fitted model is evaluated by its formula");
   const std::unique_ptr<Material> material = loadMeasuredMaterial(o.file, o.lookup);
   const Material& brdf = *material;
   glm::vec3 wi, wo;
@@ -50,7 +52,9 @@ void runEval(const EvalOptions& o) {
     wo = sphericalDirection(radians(o.theta_o), radians(o.phi_o));
   }
   const Rgb f = brdf.eval(wi, wo);
-  const char* lookup = format == MeasuredFormat::RglTensor ? "rgl parameterization" : lookupName(o.lookup);
+  const char* lookup = format == MeasuredFormat::RglTensor     ? "rgl parameterization"
+                       : format == MeasuredFormat::FittedModel ? "analytic"
+                                                               : lookupName(o.lookup);
   const float deg = 180.0f / kPi;
   if (o.json) {
     nlohmann::json out{{"file", o.file}, {"lookup", lookup}};
