@@ -6,6 +6,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -74,6 +76,27 @@ TEST(ImageReading, ATiledExrIsReadWhole) {
   ASSERT_EQ(image.height, height);
   ASSERT_EQ(image.channels, channels);
   EXPECT_EQ(image.pixels, values);
+}
+
+// Radiance HDR is one of the formats libbtf reads (environment maps): written by writeImage (RGBE),
+// read back within RGBE's precision (8-bit mantissas with a shared exponent: 2^-8 of the largest
+// channel), values across 8 orders of magnitude.
+TEST(ImageReading, ARadianceHdrRoundTripsWithinRgbePrecision) {
+  test::TempDir dir;
+  const fs::path path = dir / "sky.hdr";
+  Image image(7, 5, 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = std::pow(10.0f, float(i % 9) - 4.0f) * (1.0f + 0.1f * float(i % 3));
+  writeImage(path, image);
+  const Image back = readImage(path);
+  ASSERT_EQ(back.width, 7);
+  ASSERT_EQ(back.height, 5);
+  ASSERT_EQ(back.channels, 3);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x) {
+      float largest = 0;
+      for (int c = 0; c < 3; ++c) largest = std::max(largest, image.at(x, y, c));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.at(x, y, c), image.at(x, y, c), largest / 128.0f) << x << "," << y << "," << c;
+    }
 }
 
 // The probe's case: an EXR of a BTF folder whose header claims 5,963,780 x 4 pixels. OpenEXR's
