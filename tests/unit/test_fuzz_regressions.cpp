@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +13,7 @@
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/image.h"
+#include "btf/material/rgl_brdf.h"
 #include "btf/render/scene_loader.h"
 #include "btf/render/triangle_mesh.h"
 #include "support/test_support.h"
@@ -103,6 +105,19 @@ TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
                           "property float z\nelement face 2147483647\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
   EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(clean); }),
               HasSubstr("PLY element 'face' declares 2147483647 instances but no properties"));
+}
+
+// fuzz_rgl: a tensor file whose RGB values (8e10 1/sr) and the luminance its warp was built from
+// (a density of 2e-32) disagree by over 40 orders of magnitude. At a grazing view (89.9 degrees)
+// sample() returned an infinite weight. Such draws are now dropped.
+TEST(FuzzRegressions, RglWarpFarFromItsValuesGivesNoInfiniteWeight) {
+  const RglBrdf material(kCorpus / "fuzz_rgl" / "regression-warp-and-values-40-orders-apart.bsdf");
+  const float theta = 89.9f * 3.14159265f / 180.0f;
+  for (float x : {1.0f, -1.0f}) {
+    const glm::vec3 wo(x * std::sin(theta), 0.0f, std::cos(theta));
+    const auto s = material.sample(wo, {0.5f, 0.5f}, {0.01f, 0.99f});
+    EXPECT_FALSE(s.has_value()) << "weight " << s->weight[0] << " at pdf " << s->pdf;
+  }
 }
 
 // fuzz_exr_stack: 21 and 22 bytes of WebP (named .exr) whose headers claim 12485 x 2053 and

@@ -172,7 +172,13 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
   // reflection made the two disagree by up to 1e7x (|u| < 1e-5 at grazing wo).
   const InverseMap r = mapBack(wi, wo, true);
   if (!(r.pdf > 0.0f)) return std::nullopt;  // the edge of the support
-  return BsdfSample{wi, reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / r.pdf, r.pdf};
+  const Rgb weight = reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / r.pdf;
+  // A weight beyond the float range means the file's values and the luminance its warp was built
+  // from disagree by dozens of orders of magnitude (a damaged or forged file; a fuzzed one had f
+  // 8e10 where the warp's density was 2e-32). Such a draw would poison any estimator, so it is
+  // dropped like a draw where nothing reflects.
+  if (!weight.isFinite()) return std::nullopt;
+  return BsdfSample{wi, weight, r.pdf};
 }
 
 float RglBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
