@@ -1,6 +1,8 @@
 // Evaluations per second per core of the reflectance lookups that later compressed formats are
-// compared against: a MERL table (nearest and interpolated lookup) and a one-lobe Lafortune model.
-// Single-threaded. Direction pairs are drawn before timing, so the loops time eval only.
+// compared against: a MERL table (nearest and interpolated lookup), the same table as an octree
+// (lossless and at tolerance 0.02: point location in a tree instead of an array index; the counter
+// "bytes" is the tree's size in memory against the array's 34,992,000) and a one-lobe Lafortune
+// model. Single-threaded. Direction pairs are drawn before timing, so the loops time eval only.
 //
 // The Lafortune parameters are the published one-lobe fit of MERL's gold-paint (Ngan et al. 2005),
 // read from BTF_SHARED_DATA_DIR/fits/lafortune1_ngan2005_merl.csv; without that file the benchmark
@@ -16,9 +18,11 @@
 #include <string>
 #include <vector>
 
+#include "btf/compress/octree_table.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/rng.h"
 #include "btf/material/lafortune.h"
+#include "btf/material/octree_brdf.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/sampling/warp.h"
 
@@ -62,6 +66,8 @@ struct Fixture {
   std::shared_ptr<const btf::MerlTable> table = std::make_shared<btf::MerlTable>(btf::tabulate(lafortune));
   btf::TabulatedBrdf nearest{table, btf::TableLookup::Nearest};
   btf::TabulatedBrdf interpolated{table, btf::TableLookup::Interpolated};
+  std::shared_ptr<const btf::OctreeTable> lossless = std::make_shared<btf::OctreeTable>(btf::OctreeTable::build(*table, 0.0));
+  std::shared_ptr<const btf::OctreeTable> lossy = std::make_shared<btf::OctreeTable>(btf::OctreeTable::build(*table, 0.02));
   // 2^16 pairs (1.5 MB): enough that table accesses are spread like a renderer's, few enough to
   // stay in cache themselves. Uniform over the hemisphere, independent wi and wo.
   std::vector<btf::DirectionPair> pairs;
@@ -96,10 +102,18 @@ void runEval(benchmark::State& state, const btf::Material& material) {
 void BM_EvalMerlNearest(benchmark::State& state) { runEval(state, fixture().nearest); }
 void BM_EvalMerlInterpolated(benchmark::State& state) { runEval(state, fixture().interpolated); }
 void BM_EvalLafortune1(benchmark::State& state) { runEval(state, fixture().lafortune); }
+void BM_EvalOctree(benchmark::State& state, bool lossy, btf::TableLookup lookup) {
+  const auto& octree = lossy ? fixture().lossy : fixture().lossless;
+  runEval(state, btf::OctreeBrdf(octree, lookup));
+  state.counters["bytes"] = double(octree->bytes());
+}
 
 BENCHMARK(BM_EvalMerlNearest);
 BENCHMARK(BM_EvalMerlInterpolated);
 BENCHMARK(BM_EvalLafortune1);
+BENCHMARK_CAPTURE(BM_EvalOctree, lossless_nearest, false, btf::TableLookup::Nearest);
+BENCHMARK_CAPTURE(BM_EvalOctree, lossless_interpolated, false, btf::TableLookup::Interpolated);
+BENCHMARK_CAPTURE(BM_EvalOctree, tolerance_0.02_interpolated, true, btf::TableLookup::Interpolated);
 
 }  // namespace
 

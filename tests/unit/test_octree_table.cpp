@@ -4,11 +4,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <random>
+#include <vector>
 
 #include <tbb/global_control.h>
 
@@ -213,6 +216,32 @@ TEST(OctreeTable, FromPartsRefusesBrokenTrees) {
   auto nan = octree.leaves();
   nan[0][1] = NAN;
   EXPECT_THAT(test::errorOf([&] { (void)OctreeTable::fromParts(octree.nodes(), nan, 0.1); }), HasSubstr("not finite"));
+}
+
+// rawBlock's shared walk must find the same leaves as eight walks from the root: on blocks at
+// random, at the clamped upper edges (both indices equal), across the middle splits and across
+// phi_d's wrap (179, 0), on a lossless tree and on one whose leaves cover many cells.
+TEST(OctreeTable, RawBlockFindsTheLeavesOfEightPointLocations) {
+  for (double tolerance : {0.0, 0.1}) {
+    const OctreeTable octree = OctreeTable::build(sharedTable(), tolerance);
+    std::mt19937 rng(11);
+    std::vector<std::array<std::array<int, 2>, 3>> blocks = {
+        {{{89, 89}, {89, 89}, {179, 0}}},
+        {{{44, 45}, {44, 45}, {89, 90}}},
+        {{{0, 1}, {0, 1}, {0, 1}}},
+        {{{59, 60}, {69, 70}, {169, 170}}},
+    };
+    for (int n = 0; n < 5000; ++n) {
+      const int i = int(rng() % kNh), j = int(rng() % kNd), k = int(rng() % kNp);
+      blocks.push_back({{{i, std::min(i + 1, kNh - 1)}, {j, std::min(j + 1, kNd - 1)}, {k, (k + 1) % kNp}}});
+    }
+    for (const auto& [h, d, p] : blocks) {
+      const OctreeTable::Block block = octree.rawBlock(h, d, p);
+      for (int c = 0; c < 8; ++c)
+        ASSERT_EQ(block[std::size_t(c)], &octree.raw(h[c >> 2], d[(c >> 1) & 1], p[c & 1]))
+            << "tolerance " << tolerance << ", cell (" << h[c >> 2] << ", " << d[(c >> 1) & 1] << ", " << p[c & 1] << ")";
+    }
+  }
 }
 
 // At tolerance 0 the octree material reads what TabulatedBrdf reads, wherever the table is

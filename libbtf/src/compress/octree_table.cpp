@@ -276,25 +276,64 @@ OctreeTable OctreeTable::fromParts(std::vector<Node> nodes, std::vector<Leaf> le
   return octree;
 }
 
+namespace {
+
+// One step of point location: the index of the child of a node over `box` that holds cell `at`;
+// `box` becomes that child's box.
+std::uint32_t childHolding(Box& box, const int at[3]) {
+  const std::array<int, 3> s = octreeSplits(box);
+  int child = 0;
+  for (int a = 0; a < 3; ++a) {
+    int half = 0;
+    if (s[a] == 2) {
+      const int mid = box.lo[a] + (box.hi[a] - box.lo[a]) / 2;
+      half = at[a] >= mid;
+      (half ? box.lo[a] : box.hi[a]) = mid;
+    }
+    child = child * s[a] + half;
+  }
+  return std::uint32_t(child);
+}
+
+}  // namespace
+
 const Leaf& OctreeTable::raw(int theta_h, int theta_d, int phi_d) const {
   const int at[3] = {theta_h, theta_d, phi_d};
   Box box;
   const Node* n = &nodes_.back();
-  while (!(n->ref & kLeaf)) {
-    const std::array<int, 3> s = octreeSplits(box);
-    int child = 0;
-    for (int a = 0; a < 3; ++a) {
-      int half = 0;
-      if (s[a] == 2) {
-        const int mid = box.lo[a] + (box.hi[a] - box.lo[a]) / 2;
-        half = at[a] >= mid;
-        (half ? box.lo[a] : box.hi[a]) = mid;
-      }
-      child = child * s[a] + half;
-    }
-    n = &nodes_[n->ref + std::uint32_t(child)];
-  }
+  while (!(n->ref & kLeaf)) n = &nodes_[n->ref + childHolding(box, at)];
   return leaves_[n->ref & ~kLeaf];
+}
+
+OctreeTable::Block OctreeTable::rawBlock(std::array<int, 2> theta_h, std::array<int, 2> theta_d,
+                                         std::array<int, 2> phi_d) const {
+  const std::array<int, 2>* axes[3] = {&theta_h, &theta_d, &phi_d};
+  Box box;
+  const Node* n = &nodes_.back();
+  // The shared walk: on while, along every split coordinate, both of the block's indices fall in
+  // the same half.
+  for (;;) {
+    if (n->ref & kLeaf) break;
+    const std::array<int, 3> s = octreeSplits(box);
+    bool together = true;
+    for (int a = 0; a < 3 && together; ++a) {
+      if (s[a] == 1) continue;
+      const int mid = box.lo[a] + (box.hi[a] - box.lo[a]) / 2;
+      together = ((*axes[a])[0] >= mid) == ((*axes[a])[1] >= mid);
+    }
+    if (!together) break;
+    const int at[3] = {theta_h[0], theta_d[0], phi_d[0]};
+    n = &nodes_[n->ref + childHolding(box, at)];
+  }
+  Block block;
+  for (int c = 0; c < 8; ++c) {
+    const int at[3] = {theta_h[c >> 2], theta_d[(c >> 1) & 1], phi_d[c & 1]};
+    Box b = box;
+    const Node* m = n;
+    while (!(m->ref & kLeaf)) m = &nodes_[m->ref + childHolding(b, at)];
+    block[std::size_t(c)] = &leaves_[m->ref & ~kLeaf];
+  }
+  return block;
 }
 
 MerlTable OctreeTable::expand() const {

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "btf/core/error.h"
-#include "btf/sampling/warp.h"
+#include "cosine_sampling.h"
 #include "table_coordinates.h"
 
 namespace btf {
@@ -21,14 +21,15 @@ struct CellValue {
   bool measured;
 };
 
-CellValue cellValue(const OctreeTable& octree, int i, int j, int k) {
-  const OctreeTable::Leaf& raw = octree.raw(i, j, k);
+CellValue cellValue(const OctreeTable::Leaf& raw) {
   const bool measured = raw[0] >= 0 && raw[1] >= 0 && raw[2] >= 0;
   if (!measured) return {glm::dvec3(0.0), false};
   return {glm::dvec3(raw[0] * MerlTable::kChannelScale[0], raw[1] * MerlTable::kChannelScale[1],
                      raw[2] * MerlTable::kChannelScale[2]),
           true};
 }
+
+CellValue cellValue(const OctreeTable& octree, int i, int j, int k) { return cellValue(octree.raw(i, j, k)); }
 
 Rgb toRgb(const glm::dvec3& f) { return Rgb(float(f.x), float(f.y), float(f.z)); }
 
@@ -57,6 +58,7 @@ Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const 
   const float tp = u.u_p - float(k0);
   if (k0 >= kNp) k0 -= kNp;
   const int k[2] = {k0, k0 + 1 == kNp ? 0 : k0 + 1};
+  const OctreeTable::Block block = octree_->rawBlock({i[0], i[1]}, {j[0], j[1]}, {k[0], k[1]});
   glm::dvec3 sum(0.0);
   double weight_sum = 0;
   for (int a = 0; a < 2; ++a)
@@ -64,7 +66,7 @@ Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const 
       for (int c = 0; c < 2; ++c) {
         const double w = double((a ? th : 1 - th) * (b ? td : 1 - td) * (c ? tp : 1 - tp));
         if (w == 0) continue;
-        const CellValue v = cellValue(*octree_, i[a], j[b], k[c]);
+        const CellValue v = cellValue(*block[std::size_t(4 * a + 2 * b + c)]);
         if (!v.measured) continue;
         sum += w * v.f;
         weight_sum += w;
@@ -76,17 +78,10 @@ Rgb OctreeBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const 
 }
 
 std::optional<BsdfSample> OctreeBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
-  if (!(wo.z > 0)) return std::nullopt;
-  const glm::vec3 wi = squareToCosineHemisphere(u);
-  const float pdf = cosineHemispherePdf(wi);
-  if (!(pdf > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(wi, wo) * (wi.z / pdf), pdf};
+  return sampleCosineWeighted(*this, wo, u);
 }
 
-float OctreeBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
-  if (!(wo.z > 0)) return 0.0f;
-  return cosineHemispherePdf(wi);
-}
+float OctreeBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const { return cosineWeightedPdf(wi, wo); }
 
 std::string OctreeBrdf::name() const {
   const char* lookup = lookup_ == TableLookup::Nearest ? "nearest" : lookup_ == TableLookup::Truncated ? "truncated" : "interpolated";

@@ -12,7 +12,7 @@
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
-#include "btf/sampling/warp.h"
+#include "cosine_sampling.h"
 #include "table_coordinates.h"
 
 namespace btf {
@@ -144,17 +144,10 @@ Rgb TabulatedBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) con
 }
 
 std::optional<BsdfSample> TabulatedBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
-  if (!(wo.z > 0)) return std::nullopt;
-  const glm::vec3 wi = squareToCosineHemisphere(u);
-  const float pdf = cosineHemispherePdf(wi);
-  if (!(pdf > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(wi, wo) * (wi.z / pdf), pdf};
+  return sampleCosineWeighted(*this, wo, u);
 }
 
-float TabulatedBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
-  if (!(wo.z > 0)) return 0.0f;
-  return cosineHemispherePdf(wi);
-}
+float TabulatedBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const { return cosineWeightedPdf(wi, wo); }
 
 std::string TabulatedBrdf::name() const {
   switch (lookup_) {

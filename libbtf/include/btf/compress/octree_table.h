@@ -56,6 +56,12 @@ class OctreeTable {
 
   // Raw values of cell (i, j, k): point location from the root.
   const Leaf& raw(int theta_h, int theta_d, int phi_d) const;
+  // Raw values of the 8 cells {theta_h[a]} x {theta_d[b]} x {phi_d[c]} at [4a + 2b + c] (the corners
+  // of an interpolating lookup). One walk from the root while all eight lie in the same child, then
+  // a short walk per cell from the node that holds them all: adjacent cells part only near the
+  // leaves, so this takes about a quarter of the steps of eight raw() calls.
+  using Block = std::array<const Leaf*, 8>;
+  Block rawBlock(std::array<int, 2> theta_h, std::array<int, 2> theta_d, std::array<int, 2> phi_d) const;
   // The whole table back (values of each leaf written to all of its cells).
   MerlTable expand() const;
   // The largest f (1/sr) over the measured cells of `box`, from the ranges of the nodes that cover
