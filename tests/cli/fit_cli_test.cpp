@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "btf/fit/fit_file.h"
@@ -58,6 +59,51 @@ TEST(FitCli, RecoversThePresetThroughTheGeneratorsMeasurementEffects) {
   const double rel_rmse = parseJsonOutput(r)["rel_rmse"].get<double>();
   EXPECT_GT(rel_rmse, 0.02);
   EXPECT_LT(rel_rmse, 0.1);
+}
+
+// A BTF is fitted at one texel (--texel) or as the mean over its texels: here a BRDF compressed
+// as a one-texel .btfz (its 81 x 81 measured pairs), and the real one-view measured slice (81).
+TEST(FitCli, FitsABtfTexelOrTheMeanOverItsTexels) {
+  TempDir dir;
+  const auto table = dir / "plastic.binary", packed = dir / "plastic.btfz";
+  const auto texel_model = dir / "texel.json", mean_model = dir / "mean.json", outside = dir / "outside.json";
+  ASSERT_EQ(runDatagen({"--preset", "plastic-red", "--clean", "-o", table.string()}).exit_code, 0);
+  ASSERT_EQ(runBtf({"compress", table.string(), packed.string(), "--epsilon", "0.01"}).exit_code, 0);
+  CommandResult r =
+      runBtf({"fit", packed.string(), "--texel", "0,0", "--model", "ggx", "-o", texel_model.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json texel = parseJsonOutput(r);
+  EXPECT_THAT(texel["data"].get<std::string>(), HasSubstr("texel (0, 0)"));
+  EXPECT_EQ(texel["samples"].get<int>(), 81 * 81);
+  EXPECT_LT(texel["rel_rmse"].get<double>(), 0.05);
+  EXPECT_FALSE(texel["albedo"][0]["data"].is_null());
+  EXPECT_NEAR(readFitFile(texel_model).alpha, 0.1f, 0.01f);  // the preset's alpha, through 15-degree sampling and VQ
+
+  r = runBtf({"fit", packed.string(), "--model", "ggx", "-o", mean_model.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json mean = parseJsonOutput(r);
+  EXPECT_THAT(mean["data"].get<std::string>(), HasSubstr("mean over its 1 texels"));
+  EXPECT_EQ(mean["rel_rmse"].get<double>(), texel["rel_rmse"].get<double>()) << "the mean of one texel is that texel";
+
+  r = runBtf({"fit", packed.string(), "--texel", "1,0", "-o", outside.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("texel (1, 0) lies outside its 1 x 1 texels"));
+  r = runBtf({"fit", table.string(), "--texel", "0,0", "-o", outside.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("--texel is for BTFs"));
+  r = runBtf({"fit", packed.string(), "--texel", "0", "-o", outside.string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(outside));
+
+  const auto slice = sharedDataDir() / "btf" / "ubo2003_wallpaper_view000";
+  ASSERT_TRUE(std::filesystem::is_directory(slice)) << slice << " is missing (../shared/data/real must sit beside the checkout)";
+  r = runBtf({"fit", slice.string(), "--texel", "128,128", "--model", "lafortune", "-o", (dir / "slice.json").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json one_view = parseJsonOutput(r);
+  EXPECT_EQ(one_view["samples"].get<int>(), 81);  // one view x 81 lights
+  EXPECT_FALSE(one_view["albedo"][0]["data"].is_null()) << "theta_o 0 is the view held";
+  EXPECT_TRUE(one_view["albedo"][1]["data"].is_null()) << "theta_o 30 was not measured";
+  EXPECT_TRUE(std::isfinite(one_view["rel_rmse"].get<double>()));
 }
 
 TEST(FitCli, BadArgumentsFailNamingTheFileAndWriteNothing) {

@@ -1,20 +1,30 @@
 // `btf fit IN --model M -o params.json`: an analytic model fitted to a measured table with Ceres
-// (fit/analytic_fit.h). Prints the fit's parameters, whether it converged, its rel_rmse against
-// the table, and its directional albedo beside the data's; writes the model as a material file.
+// (fit/analytic_fit.h), or to a BTF texel (`--texel X,Y`; without it, the mean over the texels).
+// Prints the fit's parameters, whether it converged, its rel_rmse against the data, and its
+// directional albedo beside the data's; writes the model as a material file.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "btf/core/btf_directions.h"
+#include "btf/core/btf_view_set.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/fit/analytic_fit.h"
+#include "btf/fit/btf_texel.h"
 #include "btf/fit/fit_file.h"
 #include "btf/material/albedo.h"
+#include "btf/material/btf_material.h"
 #include "btf/material/tabulated_brdf.h"
+#include "btf_input.h"
 #include "commands.h"
 #include "measured_file.h"
 
@@ -22,9 +32,11 @@ namespace btf::cli {
 namespace {
 
 constexpr float kAlbedoAnglesDeg[] = {0.0f, 30.0f, 60.0f, 75.0f};
+constexpr std::uint32_t kBtfAlbedoSamples = 1u << 18;
 
 struct FitCommandOptions {
   std::string in, out, model = "ggx";
+  std::vector<int> texel;  // empty, or x and y
   int lobes = 1, starts = 6, iterations = 100;
   bool per_channel = false, json = false;
 };
@@ -48,6 +60,44 @@ std::string parameterText(const AnalyticParameters& p) {
   return text;
 }
 
+// The data a fit is made to: a measured table, or a BTF texel (a one-texel BTF and its
+// measurements). `data` is the data as a material, for its albedo: a table's interpolated lookup,
+// or a BTF's interpolation between its 81 directions, 15 degrees apart, which spreads any lobe
+// narrower than that (its albedo is then only what the BTF shows as a material).
+struct FitData {
+  std::shared_ptr<const MerlTable> table;
+  std::vector<MeasuredReflectance> measurements;
+  std::shared_ptr<const Material> data;
+  std::optional<BtfViewSet> views;  // a BTF's views: its albedo only where the view was measured
+  std::string description;          // what the report names as fitted
+};
+
+FitData loadFitData(const FitCommandOptions& o) {
+  FitData d;
+  if (isBtfPath(o.in)) {
+    const BtfInput input = openBtfInput(o.in);
+    std::optional<glm::ivec2> texel;
+    if (!o.texel.empty()) texel = glm::ivec2(o.texel[0], o.texel[1]);
+    auto one = std::make_shared<BtfData>(btfTexel(*input.source, texel));
+    d.measurements = texelMeasurements(*one);
+    d.views = one->views();
+    d.description = o.in + (texel ? " texel (" + std::to_string(texel->x) + ", " + std::to_string(texel->y) + ")"
+                                  : " (mean over its " + std::to_string(input.source->texelCount()) + " texels)");
+    try {
+      d.data = std::make_shared<BtfMaterial>(one);
+    } catch (const Error&) {
+      // A partial BTF whose views are not whole rings: its albedo is left out.
+    }
+    return d;
+  }
+  if (!o.texel.empty()) throw FileError(o.in, "--texel is for BTFs (an image folder or a .btfz); this is a table");
+  if (measuredFormatOf(o.in) == MeasuredFormat::FittedModel) throw FileError(o.in, "is a fitted model already; fit a measured table");
+  d.table = std::make_shared<const MerlTable>(loadMeasuredTable(o.in));
+  d.data = std::make_shared<TabulatedBrdf>(d.table, TableLookup::Interpolated);
+  d.description = o.in;
+  return d;
+}
+
 void runFit(const FitCommandOptions& o) {
   AnalyticFitOptions options;
   options.family = parseAnalyticFamily(o.model);
@@ -56,21 +106,28 @@ void runFit(const FitCommandOptions& o) {
   options.starts = o.starts;
   options.max_iterations = o.iterations;
   if (std::filesystem::path(o.out).extension() != ".json") throw FileError(o.out, "the fit is written as JSON: give a .json name");
-  if (measuredFormatOf(o.in) == MeasuredFormat::FittedModel) throw FileError(o.in, "is a fitted model already; fit a measured table");
-  const auto table = std::make_shared<const MerlTable>(loadMeasuredTable(o.in));
-  const AnalyticFit fit = fitAnalytic(*table, options);
-  writeFitFile(o.out, fit, o.in);
+  const FitData d = loadFitData(o);
+  const AnalyticFit fit = d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
+  writeFitFile(o.out, fit, d.description);
 
-  const TabulatedBrdf data(table, TableLookup::Interpolated);
   nlohmann::json albedo = nlohmann::json::array();
   for (float deg : kAlbedoAnglesDeg) {
     const float theta = deg * kPi / 180.0f;
-    const Rgb a_data = integrateAlbedoHalfVector(data, theta), a_fit = integrateAlbedoHalfVector(*fit.material, theta);
-    albedo.push_back({{"theta_o_deg", deg}, {"data", {a_data.r, a_data.g, a_data.b}}, {"fit", {a_fit.r, a_fit.g, a_fit.b}}});
+    const Rgb a_fit = integrateAlbedoHalfVector(*fit.material, theta);
+    nlohmann::json data = nullptr;
+    const std::optional<int> view = findBtfDirection(deg, 0.0f);
+    if (d.data && (!d.views || (view && d.views->contains(*view)))) {
+      // A BTF texel is anisotropic in general: its albedo at (theta_o, phi_o = 0) by Monte Carlo with
+      // its own (exact) sampler, where a table takes the isotropic quadrature.
+      const Rgb a_data = d.views ? estimateAlbedo(*d.data, glm::vec3(std::sin(theta), 0.0f, std::cos(theta)), kBtfAlbedoSamples).value
+                                 : integrateAlbedoHalfVector(*d.data, theta);
+      data = {a_data.r, a_data.g, a_data.b};
+    }
+    albedo.push_back({{"theta_o_deg", deg}, {"data", data}, {"fit", {a_fit.r, a_fit.g, a_fit.b}}});
   }
   const AnalyticFitReport& r = fit.report;
   if (o.json) {
-    std::cout << nlohmann::json{{"file", o.in},   {"output", o.out},       {"model", o.model},
+    std::cout << nlohmann::json{{"file", o.in},   {"data", d.description}, {"output", o.out}, {"model", o.model},
                                 {"rel_rmse", r.rel_rmse}, {"converged", r.converged}, {"starts", r.starts},
                                 {"starts_converged", r.starts_converged}, {"iterations", r.iterations},
                                 {"samples", r.samples}, {"excluded", r.excluded}, {"seconds", r.seconds},
@@ -79,18 +136,21 @@ void runFit(const FitCommandOptions& o) {
               << '\n';
     return;
   }
-  std::printf("%s fitted to %s: %zu cells of the fitting grid (%zu unmeasured or below the horizon, left out)\n",
-              fit.material->name().c_str(), o.in.c_str(), r.samples, r.excluded);
+  std::printf("%s fitted to %s: %zu %s (%zu unmeasured or below the horizon, left out)\n", fit.material->name().c_str(),
+              d.description.c_str(), r.samples, d.table ? "cells of the fitting grid" : "measurements", r.excluded);
   std::printf("  %s\n", parameterText(fit.parameters).c_str());
   std::printf("  %s after %d iterations (%d of %d starts converged), %.1f s\n",
               r.converged ? "converged" : "NOT converged", r.iterations, r.starts_converged, r.starts, r.seconds);
-  std::printf("  rel_rmse of f cos(theta_i) over the table: %.4f\n", r.rel_rmse);
+  std::printf("  rel_rmse of f cos(theta_i) over the %s: %.4f\n", d.table ? "table" : "measurements", r.rel_rmse);
   std::printf("  albedo (mean of RGB)  ");
   for (float deg : kAlbedoAnglesDeg) std::printf("  %5.0f deg", double(deg));
   std::printf("\n");
   for (const char* which : {"data", "fit"}) {
-    std::printf("    %-19s", which);
-    for (const auto& a : albedo) std::printf("  %9.4f", (a[which][0].get<double>() + a[which][1].get<double>() + a[which][2].get<double>()) / 3.0);
+    std::printf("    %-19s", std::string(which) == "data" && d.views ? "btf (interpolated)" : which);
+    for (const auto& a : albedo) {
+      if (a[which].is_null()) std::printf("  %9s", "n/a");
+      else std::printf("  %9.4f", (a[which][0].get<double>() + a[which][1].get<double>() + a[which][2].get<double>()) / 3.0);
+    }
     std::printf("\n");
   }
   std::printf("wrote %s\n", o.out.c_str());
@@ -104,14 +164,17 @@ void runFit(const FitCommandOptions& o) {
 void registerFitCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "fit",
-      "Fit an analytic model (ggx, ward or lafortune with 1-3 lobes) to a measured table with Ceres; the loss is robust on "
+      "Fit an analytic model (ggx, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
       "ln(1 + f cos theta_i), unmeasured cells left out. Writes the model as JSON, usable as a material by info, eval, plot, "
       "sample and in scenes ({\"type\": \"fitted\", \"file\": ...})");
   auto o = std::make_shared<FitCommandOptions>();
-  cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack or .bsdf)")->required();
+  cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack, .bsdf, .octree) or BTF (image folder, .btfz)")->required();
   cmd->add_option("-o,--output", o->out, "The fitted model (.json), written atomically")->required();
   cmd->add_option("--model", o->model, "ggx, ward or lafortune")->check(CLI::IsMember({"ggx", "ward", "lafortune"}))->capture_default_str();
   cmd->add_option("--lobes", o->lobes, "Lafortune lobes (1-3)")->check(CLI::Range(1, 3))->capture_default_str();
+  cmd->add_option("--texel", o->texel, "BTF: fit texel X,Y (default: the mean over all texels)")
+      ->delimiter(',')
+      ->expected(2);
   cmd->add_flag("--per-channel", o->per_channel, "Lafortune: each channel its own lobes (else shared lobes, RGB weights)");
   cmd->add_option("--starts", o->starts, "Initial guesses spread over the shape parameters")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--iterations", o->iterations, "Levenberg-Marquardt iterations per start")->check(CLI::Range(1, 10000))->capture_default_str();

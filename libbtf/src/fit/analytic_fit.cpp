@@ -38,31 +38,66 @@ FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
 struct SampleSet {
   std::vector<FitSample> samples;
   std::size_t excluded = 0;
-  Rgb diffuse_guess;  // pi times the mean f of cells far from the highlight: a start for kd
+  Rgb diffuse_guess;  // pi times the mean f of samples far from the highlight: a start for kd
+};
+
+// Collects the samples of either kind of data, and the diffuse start from those whose half vector
+// lies beyond 40 degrees from the normal.
+class SampleSetBuilder {
+ public:
+  void add(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
+    if (!(wi.z > 1e-4f) || !(wo.z > 1e-4f)) {
+      ++set_.excluded;
+      return;
+    }
+    set_.samples.push_back(makeSample(wi, wo, f));
+    if (set_.samples.back().h_z2 < kFarCos2) {
+      for (int c = 0; c < 3; ++c) far_sum_[c] += f[c];
+      ++far_count_;
+    }
+  }
+  void exclude() { ++set_.excluded; }
+  SampleSet finish() {
+    for (int c = 0; c < 3; ++c)
+      set_.diffuse_guess[c] = far_count_ > 0 ? float(std::clamp(fit::kFitPi * far_sum_[c] / far_count_, 0.02, 0.95)) : 0.3f;
+    return std::move(set_);
+  }
+
+ private:
+  static constexpr double kFarCos2 = 0.584984;  // cos^2(0.7 rad)
+  SampleSet set_;
+  double far_sum_[3] = {}, far_count_ = 0;
 };
 
 SampleSet sampleTable(const MerlTable& table) {
-  SampleSet set;
-  double far_sum[3] = {}, far_count = 0;
+  SampleSetBuilder builder;
   for (int i = 0; i < MerlTable::kThetaHalfRes; ++i)
     for (int j = 0; j < MerlTable::kThetaDiffRes; j += kThetaDiffStride)
       for (int k = 0; k < MerlTable::kPhiDiffRes; k += kPhiDiffStride) {
         const std::size_t cell = MerlTable::index(i, j, k);
-        const DirectionPair d = MerlTable::directionsOf(i, j, k);
-        if (!table.isMeasured(cell) || !(d.wi.z > 1e-4f) || !(d.wo.z > 1e-4f)) {
-          ++set.excluded;
+        if (!table.isMeasured(cell)) {
+          builder.exclude();
           continue;
         }
-        const Rgb f = table.reflectance(cell);
-        set.samples.push_back(makeSample(d.wi, d.wo, f));
-        if (MerlTable::thetaHalfOf(i) > 0.7) {  // beyond 40 degrees from the normal
-          for (int c = 0; c < 3; ++c) far_sum[c] += f[c];
-          ++far_count;
-        }
+        const DirectionPair d = MerlTable::directionsOf(i, j, k);
+        builder.add(d.wi, d.wo, table.reflectance(cell));
       }
+  return builder.finish();
+}
+
+bool isUsable(const MeasuredReflectance& m) {
   for (int c = 0; c < 3; ++c)
-    set.diffuse_guess[c] = far_count > 0 ? float(std::clamp(fit::kFitPi * far_sum[c] / far_count, 0.02, 0.95)) : 0.3f;
-  return set;
+    if (!(m.f[c] >= 0) || !std::isfinite(m.f[c])) return false;
+  return std::isfinite(m.wi.x + m.wi.y + m.wi.z + m.wo.x + m.wo.y + m.wo.z);
+}
+
+SampleSet sampleMeasurements(std::span<const MeasuredReflectance> data) {
+  SampleSetBuilder builder;
+  for (const MeasuredReflectance& m : data) {
+    if (isUsable(m)) builder.add(m.wi, m.wo, m.f);
+    else builder.exclude();
+  }
+  return builder.finish();
 }
 
 // One sample's residuals: ln(1 + cos_i f_model) - ln(1 + cos_i f_data), per channel.
@@ -281,18 +316,18 @@ std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& p) {
   throw Error("unknown analytic model");
 }
 
-AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
+namespace {
+
+void checkOptions(const AnalyticFitOptions& options) {
   if (options.lobes < 1 || options.lobes > 3) throw Error("fit: lobes must be 1, 2 or 3, got " + std::to_string(options.lobes));
   if (options.starts < 1) throw Error("fit: starts must be >= 1, got " + std::to_string(options.starts));
   if (options.max_iterations < 1) throw Error("fit: max_iterations must be >= 1");
   if (options.family != AnalyticFamily::Lafortune && (options.lobes != 1 || options.per_channel))
     throw Error(std::string("fit: lobes and per-channel fits are for lafortune only, not ") + analyticFamilyName(options.family));
-  const auto start_time = std::chrono::steady_clock::now();
-  const SampleSet set = sampleTable(table);
-  if (set.samples.size() < 100)
-    throw Error("fit: the table has only " + std::to_string(set.samples.size()) +
-                " measured cells above the horizon on the fitting grid (100 or more needed)");
+}
 
+// The fit of a sample set; rel_rmse and seconds are the caller's.
+AnalyticFit fitSamples(const SampleSet& set, const AnalyticFitOptions& options) {
   AnalyticFit fit;
   AnalyticFitReport& report = fit.report;
   report.converged = true;
@@ -316,20 +351,53 @@ AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& option
       break;
   }
   fit.material = makeAnalyticMaterial(fit.parameters);
-  report.rel_rmse = tableRelRmse(*fit.material, table);
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return fit;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
+  checkOptions(options);
+  const auto start_time = std::chrono::steady_clock::now();
+  const SampleSet set = sampleTable(table);
+  if (set.samples.size() < 100)
+    throw Error("fit: the table has only " + std::to_string(set.samples.size()) +
+                " measured cells above the horizon on the fitting grid (100 or more needed)");
+  AnalyticFit fit = fitSamples(set, options);
+  fit.report.rel_rmse = tableRelRmse(*fit.material, table);
+  fit.report.seconds = secondsSince(start_time);
+  return fit;
+}
+
+AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const AnalyticFitOptions& options) {
+  checkOptions(options);
+  const auto start_time = std::chrono::steady_clock::now();
+  const SampleSet set = sampleMeasurements(data);
+  if (set.samples.size() < kMinimumFitSamples)
+    throw Error("fit: only " + std::to_string(set.samples.size()) + " of " + std::to_string(data.size()) +
+                " measurements are usable (finite, non-negative, both directions above the horizon); " +
+                std::to_string(kMinimumFitSamples) + " or more needed");
+  AnalyticFit fit = fitSamples(set, options);
+  fit.report.rel_rmse = measuredRelRmse(*fit.material, data);
+  fit.report.seconds = secondsSince(start_time);
   return fit;
 }
 
 namespace {
 
+// The rel_rmse measures count directions within 80 degrees of the normal, as the README's
+// tabulation errors: tabulated RGL files reach 6e5 1/sr in a few cells at grazing angles, which
+// would otherwise be the whole measure.
+const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
+
 // rel_rmse of f cos over the measured cells within 80 degrees of the normal, with `valueAt(i, j, k,
 // directions)` giving the compared value of each cell.
 template <class ValueAt>
 double relRmseOverCells(const MerlTable& table, const ValueAt& valueAt) {
-  // Within 80 degrees of the normal, as the README's tabulation errors: tabulated RGL files reach
-  // 6e5 1/sr in a few cells at grazing angles, which would otherwise be the whole measure.
-  const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
   // Sums per theta_h row in parallel, added in row order: the same result for any thread count.
   std::vector<std::array<double, 2>> rows(MerlTable::kThetaHalfRes, {0.0, 0.0});
   tbb::parallel_for(0, MerlTable::kThetaHalfRes, [&](int i) {
@@ -363,6 +431,21 @@ double relRmseOverCells(const MerlTable& table, const ValueAt& valueAt) {
 
 double tableRelRmse(const Material& model, const MerlTable& table) {
   return relRmseOverCells(table, [&](int, int, int, const DirectionPair& d) { return model.eval(d.wi, d.wo); });
+}
+
+double measuredRelRmse(const Material& model, std::span<const MeasuredReflectance> data) {
+  double error = 0, reference = 0;
+  for (const MeasuredReflectance& m : data) {
+    if (!isUsable(m) || !(m.wi.z >= kCos80) || !(m.wo.z >= kCos80)) continue;
+    const Rgb f = model.eval(m.wi, m.wo);
+    for (int c = 0; c < 3; ++c) {
+      const double e = double(m.wi.z) * (double(f[c]) - double(m.f[c]));
+      const double r = double(m.wi.z) * double(m.f[c]);
+      error += e * e;
+      reference += r * r;
+    }
+  }
+  return reference > 0 ? std::sqrt(error / reference) : 0.0;
 }
 
 double tableRelRmse(const MerlTable& stored, const MerlTable& table) {

@@ -1,11 +1,13 @@
 // Fitting an analytic model to a tabulated isotropic BRDF (a MERL-layout table: a MERL file, or any
-// material tabulated into one) with Ceres' Levenberg–Marquardt, from several starts: each start
-// is screened by 15 iterations on every 5th sample, and the best one continues on all samples.
+// material tabulated into one) or to scattered measurements (a BTF texel's direction pairs) with
+// Ceres' Levenberg–Marquardt, from several starts: each start is screened by 15 iterations on
+// every 5th sample, and the best one continues on all samples.
 //
-// The objective. Samples are table cells: every theta_h cell, every 3rd theta_d and every 6th phi_d
-// cell (81,000 cells before the exclusions), at the cell's angles as the table stores them. A cell
-// is left out when it is unmeasured (negative in any channel) or when either direction lies below
-// the horizon. Each sample s gives one residual per channel c,
+// The objective. Samples of a table are its cells: every theta_h cell, every 3rd theta_d and every
+// 6th phi_d cell (81,000 cells before the exclusions), at the cell's angles as the table stores
+// them; scattered data gives one sample per measurement. A sample is left out when it is
+// unmeasured (negative in any channel) or when either direction lies below the horizon. Each
+// sample s gives one residual per channel c,
 //   r_sc = ln(1 + cos(theta_i) f_model,c) - ln(1 + cos(theta_i) f_data,c),
 // the log-compressed, cosine-weighted difference of Löw et al. 2012: a highlight of 1000/sr and a
 // diffuse 0.1/sr both count, and grazing light (where measurements are least reliable) counts
@@ -24,9 +26,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "btf/core/rgb.h"
 #include "btf/io/merl.h"
@@ -87,6 +92,20 @@ struct AnalyticFit {
 // earlier start). Progress: one "fit" task over the starts.
 AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options);
 
+// One measured value of a BRDF at a direction pair: scattered data such as a BTF texel's entries
+// at its 81 x 81 direction pairs.
+struct MeasuredReflectance {
+  glm::vec3 wi, wo;  // unit, local frame
+  Rgb f;             // 1/sr
+};
+
+// The same fit on scattered data: every sample is in the objective (no sampling grid) unless a
+// channel is negative or not finite (unmeasured) or a direction lies below the horizon. Throws
+// btf::Error for fewer than kMinimumFitSamples usable samples. report.rel_rmse is
+// measuredRelRmse over the same data.
+inline constexpr std::size_t kMinimumFitSamples = 50;
+AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const AnalyticFitOptions& options);
+
 // How far a model is from a table: rel_rmse of f cos(theta_i) over every measured cell whose
 // directions both lie within 80 degrees of the normal (grazing cells of tabulated measurements
 // hold outliers of 1e5 1/sr that would be the whole measure), all channels together:
@@ -98,5 +117,7 @@ double tableRelRmse(const Material& model, const MerlTable& table);
 // pair, so a lookup reads one of them for all, and on noisy tables even a lossless copy would
 // show an error.
 double tableRelRmse(const MerlTable& stored, const MerlTable& table);
+// The same measure over scattered data (its usable samples within 80 degrees of the normal).
+double measuredRelRmse(const Material& model, std::span<const MeasuredReflectance> data);
 
 }  // namespace btf
