@@ -1,10 +1,15 @@
-// btf fit: a model fitted to a generated table is written as JSON that every command reading a
-// material file accepts; bad arguments fail cleanly, naming the file, and write nothing.
+// btf fit: a model fitted to a generated table or a BTF texel is written as JSON that every
+// command reading a material file accepts; bad arguments fail cleanly, naming the file, and write
+// nothing. btf bench fits: our fits beside the published MERL fits, a CSV row per model and table.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "btf/fit/fit_file.h"
 #include "cli_test_support.h"
@@ -104,6 +109,41 @@ TEST(FitCli, FitsABtfTexelOrTheMeanOverItsTexels) {
   EXPECT_FALSE(one_view["albedo"][0]["data"].is_null()) << "theta_o 0 is the view held";
   EXPECT_TRUE(one_view["albedo"][1]["data"].is_null()) << "theta_o 30 was not measured";
   EXPECT_TRUE(std::isfinite(one_view["rel_rmse"].get<double>()));
+}
+
+// btf bench fits: per (material, reference) table, a row for every published fit of the material
+// and one for each of our fits; the reference's own row is 0 (the table holds its values).
+TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
+  TempDir dir;
+  CommandResult r = runBtf({"bench", "fits", "--materials", "gold-metallic-paint", "--references", "abc", "--models",
+                            "lafortune", "--starts", "1", "-o", (dir / "out").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("tables from the abc fits"));
+  std::istringstream csv(readBytes(dir / "out" / "fits.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "material,reference,model,ours,rel_rmse,converged,seconds");
+  std::map<std::string, double> rel_rmse;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::istringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) f.push_back(field);
+    ASSERT_EQ(f.size(), 7u) << line;
+    EXPECT_EQ(f[0], "gold-metallic-paint");
+    EXPECT_EQ(f[1], "abc");
+    rel_rmse[f[2]] = std::stod(f[4]);
+  }
+  ASSERT_EQ(rel_rmse.size(), 4u) << "sgd, abc, lafortune (Ngan) and ours";
+  EXPECT_EQ(rel_rmse["abc"], 0.0);
+  EXPECT_GT(rel_rmse["sgd"], 0.0);
+  EXPECT_GT(rel_rmse["ours:lafortune"], 0.0);
+  EXPECT_LT(rel_rmse["ours:lafortune"], 1.0);
+
+  r = runBtf({"bench", "fits", "--materials", "gold-metalic-paint", "-o", (dir / "bad").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("did you mean"));
+  r = runBtf({"bench", "fits", "--references", "phong", "-o", (dir / "bad").string()});
+  EXPECT_EQ(r.exit_code, 1);
 }
 
 TEST(FitCli, BadArgumentsFailNamingTheFileAndWriteNothing) {

@@ -11,6 +11,7 @@
 
 #include "bench_compressibility.h"
 #include "bench_compression.h"
+#include "bench_fits.h"
 #include "bench_materials.h"
 #include "bench_render.h"
 #include "bench_summary.h"
@@ -260,6 +261,7 @@ void registerBenchCommand(CLI::App& app) {
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);
   addBenchCompressibilityCommand(*bench);
+  addBenchFitsCommand(*bench);
   addBenchRenderCommand(*bench);
 }
 

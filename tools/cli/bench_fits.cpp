@@ -1,0 +1,224 @@
+// `btf bench fits [-o DIR]`: our Ceres fits (fit/analytic_fit.h) side by side with the published
+// fits of the MERL materials (io/merl_fits.h: SGD, ABC, one-lobe Lafortune), on tables made from
+// those fits. For every material and every published model that fits it (the reference), the
+// reference is tabulated into the MERL layout (as `btf-datagen --merl-fit NAME:MODEL --clean`),
+// our models are fitted to that table, and every model, the published ones and ours, is measured
+// on it by tableRelRmse (the measure of `btf fit`). The reference's own row is 0 by construction
+// (the table holds its values at the cells' directions, where tableRelRmse evaluates): a check
+// that the table is the reference. Each published fit was made to the real measurement, not to
+// another model's table, so this shows how far the models are from each other's shapes, and where
+// ours stand among them; it does not rank the published fits on MERL's own data.
+//   DIR/fits.csv                    one row per (material, reference, model): rel_rmse, and for our
+//                                   fits converged and seconds
+//   DIR/fits_<reference>.png/.svg   per reference, every model's rel_rmse per material, materials
+//                                   sorted by the best other model's error; fits_charts.gp
+//   stdout                          per reference and model: median and 90th percentile of rel_rmse,
+//                                   and in how many materials it beats each of our fits
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_fits.h"
+#include "btf/core/error.h"
+#include "btf/core/progress.h"
+#include "btf/fit/analytic_fit.h"
+#include "btf/io/atomic_file.h"
+#include "btf/io/merl_fits.h"
+#include "btf/material/tabulated_brdf.h"
+#include "comma_list.h"
+#include "gnuplot_charts.h"
+#include "merl_fit_report.h"
+
+namespace btf::cli {
+namespace {
+
+struct Args {
+  std::string output = "bench-fits";
+  std::string materials;  // comma-separated; empty: the 100 MERL materials
+  std::string references = "sgd,abc,lafortune";
+  std::string models = "lafortune,ggx";  // ours; lafortune with one lobe, as Ngan's
+  std::string fits_dir;
+  int starts = 6;
+};
+
+// One model measured on one table.
+struct Row {
+  std::string material, reference, model;  // model: a published name, or "ours:ggx" etc.
+  double rel_rmse = 0;
+  bool ours = false, converged = true;
+  double seconds = 0;
+};
+
+std::string ourName(AnalyticFamily family) { return std::string("ours:") + analyticFamilyName(family); }
+
+void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
+  writeFileAtomically(path, [&](std::ofstream& out) {
+    out << "material,reference,model,ours,rel_rmse,converged,seconds\n";
+    for (const Row& r : rows)
+      out << r.material << ',' << r.reference << ',' << r.model << ',' << (r.ours ? 1 : 0) << ',' << r.rel_rmse << ','
+          << (r.converged ? 1 : 0) << ',' << r.seconds << '\n';
+  });
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+// rel_rmse per (reference, model) and material.
+using ErrorTable = std::map<std::string, std::map<std::string, std::map<std::string, double>>>;
+
+ErrorTable tabulateRows(const std::vector<Row>& rows) {
+  ErrorTable t;
+  for (const Row& r : rows) t[r.reference][r.model][r.material] = r.rel_rmse;
+  return t;
+}
+
+void printSummary(const ErrorTable& table, const std::vector<std::string>& ours) {
+  for (const auto& [reference, models] : table) {
+    std::printf("\ntables from the %s fits: rel_rmse of f cos(theta_i) (the reference's own is 0 by construction)\n",
+                reference.c_str());
+    std::printf("  %-16s %9s %8s %8s", "model", "materials", "median", "p90");
+    for (const std::string& o : ours) std::printf("  %15s", ("beats " + o).c_str());
+    std::printf("\n");
+    for (const auto& [model, by_material] : models) {
+      std::vector<double> values;
+      for (const auto& [m, v] : by_material) values.push_back(v);
+      std::printf("  %-16s %9zu %8.4f %8.4f", model.c_str(), values.size(), quantile(values, 0.5), quantile(values, 0.9));
+      for (const std::string& o : ours) {
+        const auto it = models.find(o);
+        int wins = 0, compared = 0;
+        if (it != models.end())
+          for (const auto& [m, v] : by_material)
+            if (const auto other = it->second.find(m); other != it->second.end()) {
+              ++compared;
+              wins += v < other->second;
+            }
+        std::printf("  %9d of %3d", wins, compared);
+      }
+      std::printf("\n");
+    }
+  }
+}
+
+tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const ErrorTable& table) {
+  std::ostringstream data;
+  std::vector<tools::GnuplotChart> charts;
+  int block = 0;
+  for (const auto& [reference, models] : table) {
+    // Materials ordered by the best model other than the reference (whose own error is 0, off
+    // the log scale), so that the lower envelope rises left to right.
+    std::map<std::string, double> order_key;
+    for (const auto& [model, by_material] : models) {
+      if (model == reference) continue;
+      for (const auto& [m, v] : by_material) {
+        auto [it, inserted] = order_key.emplace(m, v);
+        if (!inserted) it->second = std::min(it->second, v);
+      }
+    }
+    std::vector<std::string> materials;
+    for (const auto& [m, key] : order_key) materials.push_back(m);
+    std::stable_sort(materials.begin(), materials.end(), [&](const std::string& a, const std::string& b) { return order_key[a] < order_key[b]; });
+    std::ostringstream body;
+    body << "set title " << tools::gnuplotQuote("Fits to MERL-layout tables of the published " + reference +
+                                                " fits: rel_rmse of f cos per material") << "\n"
+         << "set logscale y\nset xlabel 'material (sorted by the best fit other than the reference)'\n"
+         << "set ylabel 'rel_rmse of f cos(theta_i), within 80 degrees (log scale)'\nset key top left\n"
+         << "set xrange [-1:" << materials.size() << "]\nplot ";
+    int series = 0;
+    for (const auto& [model, by_material] : models) {
+      data << "$b" << block << " << EOD\n";
+      for (std::size_t i = 0; i < materials.size(); ++i)
+        if (const auto it = by_material.find(materials[i]); it != by_material.end() && it->second > 0)
+          data << i << ' ' << it->second << '\n';
+      data << "EOD\n";
+      const bool ours = model.rfind("ours:", 0) == 0;
+      body << (series++ ? ", " : "") << "$b" << block << " using 1:2 with " << (ours ? "linespoints pt 7 ps 0.6" : "points pt 6 ps 0.7")
+           << " title " << tools::gnuplotQuote(model);
+      ++block;
+    }
+    body << '\n';
+    charts.push_back({"fits_" + reference, body.str()});
+  }
+  return tools::drawGnuplotCharts(folder, "fits_charts.gp", data.str(), charts);
+}
+
+void runBenchFits(const Args& args) {
+  const MerlFits fits = tools::loadMerlFits(args.fits_dir);
+  std::vector<std::string> materials;
+  if (args.materials.empty()) {
+    for (const std::string& name : fits.names())
+      if (fits.isMerl(name)) materials.push_back(name);
+  } else {
+    for (const std::string& name : splitCommaList(args.materials)) materials.push_back(fits.resolve(name));
+  }
+  std::vector<FitModel> references;
+  for (const std::string& r : splitCommaList(args.references)) references.push_back(parseFitModel(r));
+  std::vector<AnalyticFamily> ours;
+  for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseAnalyticFamily(m));
+  if (materials.empty() || references.empty() || ours.empty()) throw Error("bench fits: no materials, references or models");
+  std::filesystem::create_directories(args.output);
+
+  std::vector<Row> rows;
+  Progress progress("fitting", std::uint64_t(materials.size() * references.size()));
+  for (const std::string& material : materials) {
+    const std::vector<FitModel> available = fits.modelsFor(material);
+    for (FitModel reference : references) {
+      if (std::find(available.begin(), available.end(), reference) == available.end()) {
+        progress.advance();
+        continue;
+      }
+      const MerlTable table = tabulate(*makeMerlFitMaterial(fits, material, reference));
+      for (FitModel published : available)
+        rows.push_back({material, fitModelName(reference), fitModelName(published),
+                        tableRelRmse(*makeMerlFitMaterial(fits, material, published), table)});
+      for (AnalyticFamily family : ours) {
+        AnalyticFitOptions options;
+        options.family = family;
+        options.starts = args.starts;
+        const AnalyticFit fit = fitAnalytic(table, options);
+        rows.push_back({material, fitModelName(reference), ourName(family), fit.report.rel_rmse, true, fit.report.converged,
+                        fit.report.seconds});
+      }
+      progress.advance();
+    }
+  }
+  const std::filesystem::path csv = std::filesystem::path(args.output) / "fits.csv";
+  writeCsv(csv, rows);
+  std::vector<std::string> our_names;
+  for (AnalyticFamily family : ours) our_names.push_back(ourName(family));
+  const ErrorTable errors = tabulateRows(rows);
+  printSummary(errors, our_names);
+  const tools::GnuplotOutcome charts = drawCharts(args.output, errors);
+  std::printf("\nwrote %s", csv.string().c_str());
+  for (const auto& f : charts.files) std::printf(", %s", f.filename().c_str());
+  std::printf("\n");
+  if (!charts.message.empty()) std::printf("%s\n", charts.message.c_str());
+}
+
+}  // namespace
+
+void addBenchFitsCommand(CLI::App& bench) {
+  auto args = std::make_shared<Args>();
+  auto* cmd = bench.add_subcommand(
+      "fits",
+      "Our Ceres fits beside the published fits of the MERL materials (SGD, ABC, Lafortune), on MERL-layout tables "
+      "made from each published fit: rel_rmse per material and model; CSV, summary and gnuplot charts");
+  cmd->add_option("-o,--output", args->output, "Output folder (fits.csv, charts)")->capture_default_str();
+  cmd->add_option("--materials", args->materials, "MERL names, comma-separated (default: the 100 MERL materials)");
+  cmd->add_option("--references", args->references, "Published fits to tabulate as the tables (sgd, abc, lafortune)")
+      ->capture_default_str();
+  cmd->add_option("--models", args->models, "Our models to fit (ggx, ward, lafortune with one lobe)")->capture_default_str();
+  cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--fits-dir", args->fits_dir, "Folder of the published fit tables (default: ../shared/data/real/fits)");
+  cmd->callback([args] { runBenchFits(*args); });
+}
+
+}  // namespace btf::cli
