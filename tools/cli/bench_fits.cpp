@@ -93,6 +93,10 @@ void printSummary(const ErrorTable& table, const std::vector<std::string>& ours)
       for (const auto& [m, v] : by_material) values.push_back(v);
       std::printf("  %-16s %9zu %8.4f %8.4f", model.c_str(), values.size(), quantile(values, 0.5), quantile(values, 0.9));
       for (const std::string& o : ours) {
+        if (o == model) {
+          std::printf("  %15s", "-");
+          continue;
+        }
         const auto it = models.find(o);
         int wins = 0, compared = 0;
         if (it != models.end())
