@@ -92,7 +92,7 @@ TEST(FitCli, FitsABtfTexelOrTheMeanOverItsTexels) {
 
   r = runBtf({"fit", packed.string(), "--texel", "1,0", "-o", outside.string()});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_THAT(r.output, HasSubstr("texel (1, 0) lies outside its 1 x 1 texels"));
+  EXPECT_THAT(r.output, HasSubstr(packed.string() + ": texel (1, 0) lies outside its 1 x 1 texels"));
   r = runBtf({"fit", table.string(), "--texel", "0,0", "-o", outside.string()});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("--texel is for BTFs"));
