@@ -9,6 +9,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
@@ -31,14 +33,14 @@ std::string corpusBytes(const fs::path& input) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// fuzz_mesh's first input byte picks the format (odd: PLY); the rest is the file, written here as
-// dir/mesh.ply the way the target writes it.
-fs::path writeMeshInputAsPly(const fs::path& input, const fs::path& dir) {
+// fuzz_mesh's first input byte picks the format (odd: PLY, even: OBJ); the rest is the file,
+// written here as dir/name the way the target writes it.
+fs::path writeMeshInput(const fs::path& input, const fs::path& dir, const char* name = "mesh.ply") {
   const std::string bytes = corpusBytes(input);
   EXPECT_FALSE(bytes.empty()) << input;
-  const fs::path ply = dir / "mesh.ply";
-  if (!bytes.empty()) std::ofstream(ply, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
-  return ply;
+  const fs::path mesh = dir / name;
+  if (!bytes.empty()) std::ofstream(mesh, std::ios::binary).write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+  return mesh;
 }
 
 // The reader's message for the input; fails the test when it does not throw a FileError.
@@ -64,7 +66,7 @@ TEST(FuzzRegressions, SceneNumberBeyondADoubleIsMalformedJson) {
 // `btf render` exited on SIGABRT). The first byte of the input picks the format (odd: PLY).
 TEST(FuzzRegressions, PlyVerticesWithoutAPositionAreRefusedBeforeAssimp) {
   test::TempDir dir;
-  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-without-x.ply", dir.path());
+  const fs::path ply = writeMeshInput("fuzz_mesh/regression-ply-without-x.ply", dir.path());
   const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
   EXPECT_THAT(message, HasSubstr(ply.string()));
   EXPECT_THAT(message, HasSubstr("without the position property 'x'"));
@@ -73,7 +75,7 @@ TEST(FuzzRegressions, PlyVerticesWithoutAPositionAreRefusedBeforeAssimp) {
 // fuzz_mesh: a binary PLY whose one face lists 0 vertices, which Assimp's triangulation aborted on.
 TEST(FuzzRegressions, PlyFaceOfFewerThanThreeVerticesIsRefused) {
   test::TempDir dir;
-  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-face-of-0-vertices.ply", dir.path());
+  const fs::path ply = writeMeshInput("fuzz_mesh/regression-ply-face-of-0-vertices.ply", dir.path());
   EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); }), HasSubstr("has 0 vertices (a face needs 3 or more)"));
 }
 
@@ -81,7 +83,7 @@ TEST(FuzzRegressions, PlyFaceOfFewerThanThreeVerticesIsRefused) {
 // tokenizer does not: it never found the end of the header and read on for ever (a timeout).
 TEST(FuzzRegressions, PlyHeaderWithAControlCharacterIsRefusedBeforeAssimp) {
   test::TempDir dir;
-  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-vertical-tab-after-end-header.ply", dir.path());
+  const fs::path ply = writeMeshInput("fuzz_mesh/regression-ply-vertical-tab-after-end-header.ply", dir.path());
   const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
   EXPECT_THAT(message, HasSubstr(ply.string()));
   EXPECT_THAT(message, HasSubstr("a control character in line 5"));
@@ -94,7 +96,7 @@ TEST(FuzzRegressions, PlyHeaderWithAControlCharacterIsRefusedBeforeAssimp) {
 // now refused.
 TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
   test::TempDir dir;
-  const fs::path ply = writeMeshInputAsPly("fuzz_mesh/regression-ply-2147483647-faces-without-properties.ply", dir.path());
+  const fs::path ply = writeMeshInput("fuzz_mesh/regression-ply-2147483647-faces-without-properties.ply", dir.path());
   const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
   EXPECT_THAT(message, HasSubstr(ply.string()));
   EXPECT_THAT(message, HasSubstr("malformed PLY header line 'element face 2147483647 list"));
@@ -105,6 +107,42 @@ TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
                           "property float z\nelement face 2147483647\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
   EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(clean); }),
               HasSubstr("PLY element 'face' declares 2147483647 instances but no properties"));
+}
+
+// fuzz_mesh: an OBJ whose line element, after a group statement, has one vertex that lies past the
+// vertex list (a NUL ended the line before it, as Assimp reads lines). Assimp threw and leaked the
+// meshes it had built. Elements are now checked before Assimp, and control characters refused.
+TEST(FuzzRegressions, ObjElementIndexingPastTheVerticesIsRefusedBeforeAssimp) {
+  test::TempDir dir;
+  const fs::path obj = writeMeshInput("fuzz_mesh/regression-obj-line-after-group-indexing-past-the-vertices.obj", dir.path(), "mesh.obj");
+  std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(obj); });
+  EXPECT_THAT(message, HasSubstr(obj.string()));
+  EXPECT_THAT(message, HasSubstr("line 3: a control character (code 0)"));
+
+  // The same defects written cleanly, and their neighbours.
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {"v 1 1 0\np 1\ng 4\nl 4\n", "line 4: 'l' with 1 vertices (it needs 2 or more)"},
+      {triangle + "f 1 2 3\ng part\nf 1 2 9\n", "line 6: '9' indexes past the 3 'v' entries of the file"},
+      {triangle + "f -4 -2 -1\n", "line 4: '-4' indexes past the 3 'v' entries defined before it"},
+      {triangle + "f 1/1 2/1 3/1\n", "line 4: '1/1' indexes past the 0 'vt' entries of the file"},
+      {triangle + "f 0 1 2\n", "line 4: '0' is not a valid v index"},
+      {triangle + "f 1 2 x\n", "line 4: 'x' is not a valid v index"},
+      {triangle + "vn 0 0 1\nf 1//1 2//1 3//1/1\n", "'3//1/1' has more than three indices"},
+      {triangle + "f 1 2\n", "line 4: 'f' with 2 vertices (it needs 3 or more)"},
+  };
+  for (const auto& [text, problem] : cases) {
+    const fs::path file = dir.path() / "case.obj";
+    std::ofstream(file, std::ios::binary) << text;
+    message = fileErrorOf([&] { (void)render::loadTriangleMeshes(file); });
+    EXPECT_THAT(message, HasSubstr(problem)) << text;
+  }
+  // Relative indices, texture coordinates and normals within their lists load.
+  const fs::path good = dir.path() / "good.obj";
+  std::ofstream(good, std::ios::binary) << triangle << "vt 0 0\nvn 0 0 1\ng part\nf -3/1/1 -2/1/1 -1//1\n";
+  const std::vector<render::TriangleMesh> meshes = render::loadTriangleMeshes(good);
+  ASSERT_EQ(meshes.size(), 1u);
+  EXPECT_EQ(meshes[0].triangles.size(), 1u);
 }
 
 // fuzz_rgl: a tensor file whose RGB values (8e10 1/sr) and the luminance its warp was built from

@@ -20,6 +20,7 @@
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
+#include "obj_indices.h"
 
 namespace btf::render {
 namespace {
@@ -282,6 +283,7 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) 
   if (extension == ".obj") {
     // From the file itself, so that the .mtl beside it is found.
     if (lowercase(path.extension().string()) == ".gz") throw FileError(path, "gzipped OBJ files are not read (their .mtl could not be found)");
+    checkObjElements(path, bytes);
     scene = importer.ReadFile(path.string(), flags);
   } else {
     checkPlyStructure(path, bytes);
