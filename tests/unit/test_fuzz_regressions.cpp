@@ -109,6 +109,52 @@ TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
               HasSubstr("PLY element 'face' declares 2147483647 instances but no properties"));
 }
 
+// fuzz_mesh: "element 4444...44vertex 3", an element name of 77 digits and a word. Assimp reads the
+// count of an element it does not know from the start of its name: the digits became billions of
+// instances, which it allocated (a timeout, 11 GB). Element names must now begin with a letter.
+TEST(FuzzRegressions, PlyElementNameBeginningWithDigitsIsRefusedBeforeAssimp) {
+  test::TempDir dir;
+  const fs::path ply = writeMeshInput("fuzz_mesh/regression-ply-element-name-beginning-with-digits.ply", dir.path());
+  const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(ply); });
+  EXPECT_THAT(message, HasSubstr(ply.string()));
+  EXPECT_THAT(message, HasSubstr("an element name begins with a letter"));
+
+  // One digit is refused too; elements of other names (which Assimp skips) still load.
+  auto triangleWithElement = [&](const std::string& name, const std::string& element) {
+    const fs::path file = dir.path() / name;
+    std::ofstream(file) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                        << element << "\nproperty int id\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n7\n";
+    return file;
+  };
+  EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(triangleWithElement("digit.ply", "element 4camera 1")); }),
+              HasSubstr("malformed PLY header line 'element 4camera 1'"));
+  EXPECT_NO_THROW((void)render::loadTriangleMeshes(triangleWithElement("camera.ply", "element camera 1")));
+  EXPECT_NO_THROW((void)render::loadTriangleMeshes(triangleWithElement("underscore.ply", "element _extra 1")));
+}
+
+// fuzz_mesh (a leak): an OBJ whose `mtllib` names a folder. Assimp opened the folder, failed to
+// read it and threw without closing it. Assimp now opens regular files only: a folder, or a device,
+// is a material library not found, and the mesh loads without it. (The leak shows under the
+// sanitizers, where CI runs this test.)
+TEST(FuzzRegressions, ObjMaterialLibraryNamingAFolderIsNotOpened) {
+  test::TempDir dir;
+  const fs::path obj = writeMeshInput("fuzz_mesh/regression-obj-mtllib-naming-a-folder.obj", dir.path(), "mesh.obj");
+  // The fuzzed file holds no face: an error naming the file, with Assimp's reason.
+  const std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(obj); });
+  EXPECT_THAT(message, HasSubstr(obj.string()));
+  EXPECT_THAT(message, HasSubstr("cannot read the mesh"));
+
+  fs::create_directory(dir.path() / "materials.mtl");
+  for (const char* library : {"materials.mtl", "/dev/zero"}) {
+    const fs::path file = dir.path() / "triangle.obj";
+    std::ofstream(file) << "mtllib " << library << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+    const std::vector<render::TriangleMesh> meshes = render::loadTriangleMeshes(file);
+    ASSERT_EQ(meshes.size(), 1u) << library;
+    EXPECT_EQ(meshes[0].triangles.size(), 1u) << library;
+  }
+}
+
 // fuzz_mesh: an OBJ whose line element, after a group statement, has one vertex that lies past the
 // vertex list (a NUL ended the line before it, as Assimp reads lines). Assimp threw and leaked the
 // meshes it had built. Elements are now checked before Assimp, and control characters refused.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of every reader (tests/fuzz, clang with ASan + UBSan) and runs each in
-# turn for SECONDS (default 30), then prints executions, coverage and crashes per target.
+# Builds the libFuzzer targets of every reader (tests/fuzz, clang with ASan + UBSan) and runs each
+# for SECONDS (default 30; one target per core at a time), then prints executions, coverage and
+# crashes per target.
 #   tools/fuzz/run.sh [SECONDS] [TARGET...]    e.g. tools/fuzz/run.sh 1800 fuzz_btfz
 #   tools/fuzz/run.sh --make-corpus            rewrite the seeds in tests/fuzz/corpus/ (not the regression-* inputs)
 # Seeds are read from tests/fuzz/corpus/<target>/ (committed, never written); what the fuzzer adds
@@ -66,38 +67,60 @@ status=0
 summary=()
 # Findings of earlier runs stay in $build/findings for a look; only this run's are counted.
 stamp=$(mktemp); trap 'rm -f "$stamp"' EXIT
-for t in "${targets[@]}"; do
-  work=$build/corpus/$t findings=$build/findings/$t log=$build/logs/$t.log
+
+# One target: fuzzes it, then writes its summary line (and, when it failed, the lines that say
+# why) to $build/logs/<target>.report, and returns 1 when it failed or found anything.
+fuzz_target() {
+  local t=$1
+  local work=$build/corpus/$t findings=$build/findings/$t log=$build/logs/$t.log report=$build/logs/$t.report
   mkdir -p "$work" "$findings" "$build/logs"
-  options=(); [ -f "tests/fuzz/dict/$t.dict" ] && options=(-dict="tests/fuzz/dict/$t.dict")
+  local options=(); [ -f "tests/fuzz/dict/$t.dict" ] && options=(-dict="tests/fuzz/dict/$t.dict")
   [ -n "${BTF_FUZZ_SEED:-}" ] && options+=(-seed="$BTF_FUZZ_SEED")
   [ -n "${BTF_FUZZ_RUNS:-}" ] && options+=(-runs="$BTF_FUZZ_RUNS")
   echo "== $t: ${seconds} s"
-  set +e
+  local rc=0
   "$build/fuzz/$t" "$work" "tests/fuzz/corpus/$t" "${options[@]}" -max_total_time="$seconds" -timeout=2 \
-    -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 -artifact_prefix="$findings/" >"$log" 2>&1
-  rc=$?
-  set -e
+    -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 -artifact_prefix="$findings/" >"$log" 2>&1 || rc=$?
   # A target that dies before its first input prints none of these: each read tolerates that
   # (pipefail) so that the summary still names the target and its log.
+  local execs rate cov found
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1 || true)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1 || true)
   cov=$({ grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" || true; } | tail -1)
   found=$(find "$findings" -type f -newer "$stamp" | wc -l)
-  line=$(printf '%-16s %10s execs %7s/s  %-22s %s finding(s)' "$t" "${execs:-?}" "${rate:-?}" "${cov:-cov: ?}" "$found")
-  summary+=("$line")
+  printf '%-16s %10s execs %7s/s  %-22s %s finding(s)\n' "$t" "${execs:-?}" "${rate:-?}" "${cov:-cov: ?}" "$found" >"$report"
   if [ "$rc" -ne 0 ] || [ "$found" -ne 0 ]; then
-    status=1
-    echo "   FAILED (exit $rc): see $log and $findings/" >&2
-    # The lines that say why, or the log's end when none of them is there (a target that could
-    # not start at all).
-    if grep -qE "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log"; then
-      grep -E "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log" | head -5 >&2
-    else
-      tail -15 "$log" >&2
-    fi
+    {
+      echo "   FAILED (exit $rc): see $log and $findings/"
+      # The lines that say why, or the log's end when none of them is there (a target that could
+      # not start at all).
+      if grep -qE "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log"; then
+        grep -E "ERROR|SUMMARY|fuzz finding|terminate called|what\(\)" "$log" | head -5
+      else
+        tail -15 "$log"
+      fi
+    } >>"$report"
+    return 1
   fi
+}
+
+# Targets run side by side, one per core (BTF_FUZZ_JOBS=N to change): each still gets SECONDS of
+# one core, and a short run of every target (CI's) takes half the time on two cores. Each target
+# writes its inputs to a folder of its own process (fuzz_support.cpp), so they do not collide.
+parallel=${BTF_FUZZ_JOBS:-$jobs}
+running=0
+for t in "${targets[@]}"; do rm -f "$build/logs/$t.report"; done
+for t in "${targets[@]}"; do
+  if [ "$running" -ge "$parallel" ]; then wait -n || true; running=$((running - 1)); fi
+  fuzz_target "$t" &
+  running=$((running + 1))
 done
+wait || true
+status=0
 echo "== fuzzing summary (${seconds} s per target)"
-printf '%s\n' "${summary[@]}"
+for t in "${targets[@]}"; do
+  report=$build/logs/$t.report
+  if [ -s "$report" ]; then cat "$report"; else printf '%-16s no report (the script failed before it)\n' "$t"; status=1; fi
+  [ "$(wc -l <"$report" 2>/dev/null || echo 0)" -gt 1 ] && status=1
+done
 exit $status

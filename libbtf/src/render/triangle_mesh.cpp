@@ -1,5 +1,6 @@
 #include "btf/render/triangle_mesh.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -124,6 +125,11 @@ void checkPlyStructure(const std::filesystem::path& path, const std::string& byt
       const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), e.count);
       if (ec != std::errc() || end != count.data() + count.size() || !extra.empty())
         fail("malformed PLY header line '" + line + "'");
+      // Assimp reads the count of an element it has no meaning for (not vertex, face...) from the
+      // start of its name, so a name of digits ("4444vertex 3") becomes billions of instances that
+      // it allocates. Names are words that begin with a letter or an underscore.
+      if (!std::isalpha(static_cast<unsigned char>(e.name[0])) && e.name[0] != '_')
+        fail("malformed PLY header line '" + line + "': an element name begins with a letter");
       elements.push_back(std::move(e));
     } else if (keyword == "property") {
       if (elements.empty()) fail("malformed PLY header: a property before any element");
@@ -259,6 +265,21 @@ Rgb colourOf(const aiMaterial* material, const char* key, unsigned type, unsigne
   return fallback;
 }
 
+// The files Assimp opens besides the mesh (an OBJ's material libraries) must be regular files.
+// An `mtllib` naming a folder opened, then failed to read, and Assimp's OBJ importer threw without
+// closing it (a leak); one naming a device such as /dev/zero would read for ever. Refused here,
+// they are material libraries not found, which Assimp reports and goes on without.
+class RegularFilesIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  bool Exists(const char* file) const override {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(file, ec);
+  }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    return Exists(file) ? Assimp::DefaultIOSystem::Open(file, mode) : nullptr;
+  }
+};
+
 }  // namespace
 
 std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) {
@@ -273,6 +294,7 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) 
   if (bytes.empty()) throw FileError(path, "empty mesh file");
 
   Assimp::Importer importer;
+  importer.SetIOHandler(new RegularFilesIOSystem);  // the importer owns it
   // No normal generation, no vertex welding across parts: normals are ours (computeVertexNormals),
   // and an OBJ's parts stay separate meshes so each can get its own material.
   // ValidateDataStructure runs first: a truncated or corrupt file can leave faces indexing past the
