@@ -155,6 +155,40 @@ TEST(FuzzRegressions, ObjMaterialLibraryNamingAFolderIsNotOpened) {
   }
 }
 
+// fuzz_mesh (a leak): an OBJ with "v  0 0", a vertex of two numbers. Assimp skips it, the element
+// check counted it, so a face that indexed the last vertex passed the check and lay past Assimp's
+// list; Assimp threw after building its meshes and leaked them. The lists are now checked to hold
+// what Assimp counts: lines Assimp would read differently are refused.
+TEST(FuzzRegressions, ObjVertexAssimpDoesNotCountIsRefused) {
+  test::TempDir dir;
+  const fs::path obj = writeMeshInput("fuzz_mesh/regression-obj-vertex-of-two-numbers-not-counted-by-assimp.obj", dir.path(), "mesh.obj");
+  std::string message = fileErrorOf([&] { (void)render::loadTriangleMeshes(obj); });
+  EXPECT_THAT(message, HasSubstr(obj.string()));
+  EXPECT_THAT(message, HasSubstr("line 1: 'v' with 2 numbers (it needs 3, 4, or 6 with a colour)"));
+
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::pair<std::string, std::string> refused[] = {
+      {"v 0 0 0 0 0\n" + triangle + "f 2 3 4\n", "line 1: 'v' with 5 numbers"},
+      {"v .5 0 0\n" + triangle + "f 2 3 4\n", "line 1: '.5' is not a number"},
+      {" v 0 0 0\n" + triangle + "f 2 3 4\n", "line 1: an indented 'v' line"},
+      {"# a comment \\\n" + triangle + "f 1 2 3\n", "line 1: a line continuation"},
+      {triangle + "vt 0\nf 1/1 2/1 3/1\n", "line 4: 'vt' with 1 numbers (it needs 2 or 3)"},
+      {triangle + "vn 0 1\nf 1//1 2//1 3//1\n", "line 4: 'vn' with 2 numbers (it needs 3)"},
+  };
+  for (const auto& [text, problem] : refused) {
+    const fs::path file = dir.path() / "case.obj";
+    std::ofstream(file, std::ios::binary) << text;
+    EXPECT_THAT(fileErrorOf([&] { (void)render::loadTriangleMeshes(file); }), HasSubstr(problem)) << text;
+  }
+  // What Assimp counts loads: 4 or 6 components, exponents, signs, a trailing comment, CRLF.
+  const fs::path file = dir.path() / "counted.obj";
+  std::ofstream(file, std::ios::binary) << "v 0 0 0 1\r\nv +1e0 0 0 # x\r\nv 0 1 0 1 0.5 0.5\r\nvt 0 0\r\nvt 0 1 0\r\n"
+                                           "vn 0 0 1\r\nf 1/1/1 2/2/1 3/1/1\r\n";
+  const std::vector<render::TriangleMesh> meshes = render::loadTriangleMeshes(file);
+  ASSERT_EQ(meshes.size(), 1u);
+  EXPECT_EQ(meshes[0].triangles.size(), 1u);
+}
+
 // fuzz_mesh: an OBJ whose line element, after a group statement, has one vertex that lies past the
 // vertex list (a NUL ended the line before it, as Assimp reads lines). Assimp threw and leaked the
 // meshes it had built. Elements are now checked before Assimp, and control characters refused.
