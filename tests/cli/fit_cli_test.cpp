@@ -116,7 +116,7 @@ TEST(FitCli, FitsABtfTexelOrTheMeanOverItsTexels) {
 TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
   TempDir dir;
   CommandResult r = runBtf({"bench", "fits", "--materials", "gold-metallic-paint", "--references", "abc", "--models",
-                            "lafortune", "--starts", "1", "-o", (dir / "out").string()});
+                            "lafortune", "--objectives", "log,linear", "--starts", "1", "-o", (dir / "out").string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("tables from the abc fits"));
   std::istringstream csv(readBytes(dir / "out" / "fits.csv"));
@@ -133,17 +133,22 @@ TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
     EXPECT_EQ(f[1], "abc");
     rel_rmse[f[2]] = std::stod(f[4]);
   }
-  ASSERT_EQ(rel_rmse.size(), 4u) << "sgd, abc, lafortune (Ngan) and ours";
+  ASSERT_EQ(rel_rmse.size(), 5u) << "sgd, abc, lafortune (Ngan) and ours with each objective";
   EXPECT_EQ(rel_rmse["abc"], 0.0);
   EXPECT_GT(rel_rmse["sgd"], 0.0);
-  EXPECT_GT(rel_rmse["ours:lafortune"], 0.0);
-  EXPECT_LT(rel_rmse["ours:lafortune"], 1.0);
+  for (const char* ours : {"ours:lafortune", "ours:lafortune:linear"}) {
+    EXPECT_GT(rel_rmse[ours], 0.0) << ours;
+    EXPECT_LT(rel_rmse[ours], 1.0) << ours;
+  }
 
   r = runBtf({"bench", "fits", "--materials", "gold-metalic-paint", "-o", (dir / "bad").string()});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("did you mean"));
   r = runBtf({"bench", "fits", "--references", "phong", "-o", (dir / "bad").string()});
   EXPECT_EQ(r.exit_code, 1);
+  r = runBtf({"bench", "fits", "--objectives", "cubic", "-o", (dir / "bad").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("expected log or linear"));
 }
 
 TEST(FitCli, BadArgumentsFailNamingTheFileAndWriteNothing) {

@@ -43,6 +43,7 @@ struct Args {
   std::string materials;  // comma-separated; empty: the 100 MERL materials
   std::string references = "sgd,abc,lafortune";
   std::string models = "lafortune,ggx";  // ours; lafortune with one lobe, as Ngan's
+  std::string objectives = "log";        // each of our models is fitted with each objective
   std::string fits_dir;
   int starts = 6;
 };
@@ -55,7 +56,10 @@ struct Row {
   double seconds = 0;
 };
 
-std::string ourName(AnalyticFamily family) { return std::string("ours:") + analyticFamilyName(family); }
+// "ours:ggx" for the default (log) objective, "ours:ggx:linear" for the linear one.
+std::string ourName(AnalyticFamily family, FitObjective objective) {
+  return std::string("ours:") + analyticFamilyName(family) + (objective == FitObjective::Log ? "" : std::string(":") + fitObjectiveName(objective));
+}
 
 void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
   writeFileAtomically(path, [&](std::ofstream& out) {
@@ -167,7 +171,10 @@ void runBenchFits(const Args& args) {
   for (const std::string& r : splitCommaList(args.references)) references.push_back(parseFitModel(r));
   std::vector<AnalyticFamily> ours;
   for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseAnalyticFamily(m));
-  if (materials.empty() || references.empty() || ours.empty()) throw Error("bench fits: no materials, references or models");
+  std::vector<FitObjective> objectives;
+  for (const std::string& o : splitCommaList(args.objectives)) objectives.push_back(parseFitObjective(o));
+  if (materials.empty() || references.empty() || ours.empty() || objectives.empty())
+    throw Error("bench fits: no materials, references, models or objectives");
   std::filesystem::create_directories(args.output);
 
   std::vector<Row> rows;
@@ -183,21 +190,24 @@ void runBenchFits(const Args& args) {
       for (FitModel published : available)
         rows.push_back({material, fitModelName(reference), fitModelName(published),
                         tableRelRmse(*makeMerlFitMaterial(fits, material, published), table)});
-      for (AnalyticFamily family : ours) {
-        AnalyticFitOptions options;
-        options.family = family;
-        options.starts = args.starts;
-        const AnalyticFit fit = fitAnalytic(table, options);
-        rows.push_back({material, fitModelName(reference), ourName(family), fit.report.rel_rmse, true, fit.report.converged,
-                        fit.report.seconds});
-      }
+      for (AnalyticFamily family : ours)
+        for (FitObjective objective : objectives) {
+          AnalyticFitOptions options;
+          options.family = family;
+          options.starts = args.starts;
+          options.objective = objective;
+          const AnalyticFit fit = fitAnalytic(table, options);
+          rows.push_back({material, fitModelName(reference), ourName(family, objective), fit.report.rel_rmse, true,
+                          fit.report.converged, fit.report.seconds});
+        }
       progress.advance();
     }
   }
   const std::filesystem::path csv = std::filesystem::path(args.output) / "fits.csv";
   writeCsv(csv, rows);
   std::vector<std::string> our_names;
-  for (AnalyticFamily family : ours) our_names.push_back(ourName(family));
+  for (AnalyticFamily family : ours)
+    for (FitObjective objective : objectives) our_names.push_back(ourName(family, objective));
   const ErrorTable errors = tabulateRows(rows);
   printSummary(errors, our_names);
   const tools::GnuplotOutcome charts = drawCharts(args.output, errors);
@@ -220,6 +230,8 @@ void addBenchFitsCommand(CLI::App& bench) {
   cmd->add_option("--references", args->references, "Published fits to tabulate as the tables (sgd, abc, lafortune)")
       ->capture_default_str();
   cmd->add_option("--models", args->models, "Our models to fit (ggx, ward, lafortune with one lobe)")->capture_default_str();
+  cmd->add_option("--objectives", args->objectives, "Objectives of our fits, comma-separated (log, linear; see btf fit)")
+      ->capture_default_str();
   cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--fits-dir", args->fits_dir, "Folder of the published fit tables (default: ../shared/data/real/fits)");
   cmd->callback([args] { runBenchFits(*args); });

@@ -28,10 +28,17 @@ using fit::FitSample;
 constexpr int kThetaDiffStride = 3;
 constexpr int kPhiDiffStride = 6;
 constexpr double kRobustScale = 0.1;  // SoftLOneLoss scale, in units of the log residual
+// The rel_rmse measures (and the linear objective, which minimizes them) count directions within
+// 80 degrees of the normal, as the README's tabulation errors: tabulated RGL files reach 6e5 1/sr
+// in a few cells at grazing angles, which would otherwise be the whole measure.
+const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
 
 FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
   FitSample s = fit::geometryOf(wi, wo);
-  for (int c = 0; c < 3; ++c) s.target[c] = std::log1p(s.cos_i * double(f[c]));
+  for (int c = 0; c < 3; ++c) {
+    s.value[c] = s.cos_i * double(f[c]);
+    s.target[c] = std::log1p(s.value[c]);
+  }
   return s;
 }
 
@@ -100,19 +107,24 @@ SampleSet sampleMeasurements(std::span<const MeasuredReflectance> data) {
   return builder.finish();
 }
 
-// One sample's residuals: ln(1 + cos_i f_model) - ln(1 + cos_i f_data), per channel.
+// One sample's residuals per channel: ln(1 + cos_i f_model) - ln(1 + cos_i f_data), or for the
+// linear objective cos_i (f_model - f_data).
 template <int kChannels, class Eval>
 struct SampleResidual {
   const FitSample* sample;
   int channel;  // the data channel of a one-channel fit; ignored for kChannels == 3
   Eval eval;
+  bool linear;
   template <class T>
   bool operator()(const T* p, T* r) const {
     using std::log;
     T f[kChannels];
     eval(p, *sample, f);
-    for (int c = 0; c < kChannels; ++c)
-      r[c] = log(T(1) + T(sample->cos_i) * f[c]) - T(sample->target[kChannels == 3 ? c : channel]);
+    for (int c = 0; c < kChannels; ++c) {
+      const int data = kChannels == 3 ? c : channel;
+      r[c] = linear ? T(sample->cos_i) * f[c] - T(sample->value[data])
+                    : log(T(1) + T(sample->cos_i) * f[c]) - T(sample->target[data]);
+    }
     return true;
   }
 };
@@ -129,18 +141,20 @@ struct StartResult {
 
 template <int kChannels, int kParameters, class Eval>
 StartResult solveStart(const std::vector<FitSample>& samples, int channel, Eval eval, std::vector<double> initial,
-                       const std::vector<Bound>& bounds, int max_iterations) {
+                       const std::vector<Bound>& bounds, int max_iterations, FitObjective objective) {
   StartResult result;
   result.parameters = std::move(initial);
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  ceres::SoftLOneLoss loss(kRobustScale);
+  ceres::SoftLOneLoss robust(kRobustScale);
+  const bool linear = objective == FitObjective::Linear;
+  ceres::LossFunction* loss = linear ? nullptr : &robust;  // linear: plain least squares, as the measure
   double* p = result.parameters.data();
   for (const FitSample& s : samples) {
     using Residual = SampleResidual<kChannels, Eval>;
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<Residual, kChannels, kParameters>(new Residual{&s, channel, eval}), &loss, p);
+        new ceres::AutoDiffCostFunction<Residual, kChannels, kParameters>(new Residual{&s, channel, eval, linear}), loss, p);
   }
   for (int i = 0; i < kParameters; ++i) {
     problem.SetParameterLowerBound(p, i, bounds[std::size_t(i)].lower);
@@ -164,13 +178,14 @@ constexpr int kScreeningIterations = 15;
 
 template <int kChannels, int kParameters, class Eval>
 StartResult bestOfStarts(const SampleSet& set, int channel, Eval eval, const std::vector<std::vector<double>>& starts,
-                         const std::vector<Bound>& bounds, int max_iterations, Progress& progress, int& converged) {
+                         const std::vector<Bound>& bounds, const AnalyticFitOptions& options, Progress& progress,
+                         int& converged) {
   std::vector<FitSample> screening;
   for (std::size_t i = 0; i < set.samples.size(); i += kScreeningStride) screening.push_back(set.samples[i]);
   std::vector<StartResult> results(starts.size());
   tbb::parallel_for(std::size_t(0), starts.size(), [&](std::size_t k) {
     results[k] = solveStart<kChannels, kParameters>(screening, channel, eval, starts[k], bounds,
-                                                    std::min(max_iterations, kScreeningIterations));
+                                                    std::min(options.max_iterations, kScreeningIterations), options.objective);
     progress.advance();
   });
   std::size_t best = 0;
@@ -178,7 +193,8 @@ StartResult bestOfStarts(const SampleSet& set, int channel, Eval eval, const std
     if (results[k].summary.termination_type == ceres::CONVERGENCE) ++converged;
     if (results[k].summary.final_cost < results[best].summary.final_cost) best = k;
   }
-  return solveStart<kChannels, kParameters>(set.samples, channel, eval, results[best].parameters, bounds, max_iterations);
+  return solveStart<kChannels, kParameters>(set.samples, channel, eval, results[best].parameters, bounds,
+                                            options.max_iterations, options.objective);
 }
 
 // Evenly spaced in log between lo and hi over the starts (the geometric mean for one start).
@@ -209,8 +225,7 @@ void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval
   std::vector<Bound> bounds(6, Bound{0.0, 1.0});
   bounds.push_back({std::log(1e-3), std::log(2.0)});
   Progress progress("fit", std::uint64_t(options.starts));
-  const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options.max_iterations, progress,
-                                               report.starts_converged);
+  const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options, progress, report.starts_converged);
   recordStart(report, best, "");
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
@@ -257,7 +272,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<3, kLobes>(set, 0, k, options.starts));
     Progress progress("fit", std::uint64_t(options.starts));
     const StartResult best = bestOfStarts<3, kParameters>(set, 0, eval, starts, lafortuneBounds<3, kLobes>(),
-                                                          options.max_iterations, progress, report.starts_converged);
+                                                          options, progress, report.starts_converged);
     recordStart(report, best, "");
     const std::vector<double>& p = best.parameters;
     out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
@@ -276,7 +291,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     std::vector<std::vector<double>> starts;
     for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<1, kLobes>(set, channel, k, options.starts));
     const StartResult best = bestOfStarts<1, kParameters>(set, channel, eval, starts, lafortuneBounds<1, kLobes>(),
-                                                          options.max_iterations, progress, report.starts_converged);
+                                                          options, progress, report.starts_converged);
     recordStart(report, best, std::string("RGB").substr(std::size_t(channel), 1) + ": ");
     const std::vector<double>& p = best.parameters;
     out.diffuse[channel] = float(p[0]);
@@ -299,6 +314,14 @@ const char* analyticFamilyName(AnalyticFamily family) {
     case AnalyticFamily::Ward: return "ward";
   }
   return "?";
+}
+
+const char* fitObjectiveName(FitObjective objective) { return objective == FitObjective::Linear ? "linear" : "log"; }
+
+FitObjective parseFitObjective(std::string_view text) {
+  for (FitObjective o : {FitObjective::Log, FitObjective::Linear})
+    if (text == fitObjectiveName(o)) return o;
+  throw Error("unknown fit objective '" + std::string(text) + "' (expected log or linear)");
 }
 
 AnalyticFamily parseAnalyticFamily(std::string_view text) {
@@ -327,7 +350,19 @@ void checkOptions(const AnalyticFitOptions& options) {
 }
 
 // The fit of a sample set; rel_rmse and seconds are the caller's.
-AnalyticFit fitSamples(const SampleSet& set, const AnalyticFitOptions& options) {
+AnalyticFit fitSamples(const SampleSet& all, const AnalyticFitOptions& options) {
+  // The linear objective is the measure's own least squares, over the measure's samples.
+  SampleSet within;
+  if (options.objective == FitObjective::Linear) {
+    within.diffuse_guess = all.diffuse_guess;
+    within.excluded = all.excluded;
+    for (const FitSample& s : all.samples)
+      if (s.cos_i >= double(kCos80) && s.cos_o >= double(kCos80)) within.samples.push_back(s);
+    if (within.samples.size() < kMinimumFitSamples)
+      throw Error("fit: " + std::to_string(within.samples.size()) + " samples within 80 degrees of the normal, too few for " +
+                  "the linear objective (it needs " + std::to_string(kMinimumFitSamples) + ")");
+  }
+  const SampleSet& set = options.objective == FitObjective::Linear ? within : all;
   AnalyticFit fit;
   AnalyticFitReport& report = fit.report;
   report.converged = true;
@@ -388,11 +423,6 @@ AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const Analyti
 }
 
 namespace {
-
-// The rel_rmse measures count directions within 80 degrees of the normal, as the README's
-// tabulation errors: tabulated RGL files reach 6e5 1/sr in a few cells at grazing angles, which
-// would otherwise be the whole measure.
-const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
 
 // rel_rmse of f cos over the measured cells within 80 degrees of the normal, with `valueAt(i, j, k,
 // directions)` giving the compared value of each cell.

@@ -22,6 +22,7 @@ struct FitSample {
   double product_xy = 0;          // wi.x wo.x + wi.y wo.y
   double product_z = 0;           // wi.z wo.z
   double target[3] = {};          // ln(1 + cos_i f_data) per channel
+  double value[3] = {};           // cos_i f_data per channel (the linear objective's target)
 };
 
 // The geometry of a direction pair as the formulas below read it (target left at 0).

@@ -14,6 +14,10 @@
 // less. The three residuals of a sample form one block under Ceres' SoftLOneLoss with scale 0.1
 // (rho(s) = 2 a^2 (sqrt(1 + s / a^2) - 1), a = 0.1): a sample off by more than about 10% in log
 // space counts linearly, not squared, so a few corrupt cells cannot pull the whole fit.
+// The linear objective instead minimizes the measure the fit is judged by (tableRelRmse): plain
+// least squares of r_sc = cos(theta_i) (f_model,c - f_data,c) over the samples within 80 degrees
+// of the normal. It follows a narrow, tall highlight that the log objective, being robust, treats
+// as a few outlying cells, and in turn cares little for the diffuse part and the tails.
 //
 // The models and their parameters (isotropic, like the tables):
 //   ggx        diffuse kd (RGB), f0 (RGB), alpha            material/ggx.h
@@ -41,11 +45,16 @@
 namespace btf {
 
 enum class AnalyticFamily { Lafortune, Ggx, Ward };
+// The residuals minimized (see above): log-compressed and robust, or linear (the measure itself).
+enum class FitObjective { Log, Linear };
 
 // "lafortune", "ggx", "ward".
 const char* analyticFamilyName(AnalyticFamily family);
 // Inverse of analyticFamilyName; throws btf::Error naming the choices.
 AnalyticFamily parseAnalyticFamily(std::string_view text);
+// "log", "linear", and the inverse (throws btf::Error naming the choices).
+const char* fitObjectiveName(FitObjective objective);
+FitObjective parseFitObjective(std::string_view text);
 
 struct AnalyticFitOptions {
   AnalyticFamily family = AnalyticFamily::Ggx;
@@ -53,6 +62,7 @@ struct AnalyticFitOptions {
   bool per_channel = false;  // Lafortune: each channel its own lobe shapes (3 x lobes lobes in all)
   int starts = 6;            // initial guesses, spread over the shape parameters (>= 1)
   int max_iterations = 100;  // per start
+  FitObjective objective = FitObjective::Log;
 };
 
 // The fitted parameters; which are used depends on the family.
