@@ -89,13 +89,15 @@ void printSummary(const ErrorTable& table, const std::vector<std::string>& ours)
   for (const auto& [reference, models] : table) {
     std::printf("\ntables from the %s fits: rel_rmse of f cos(theta_i) (the reference's own is 0 by construction)\n",
                 reference.c_str());
-    std::printf("  %-16s %9s %8s %8s", "model", "materials", "median", "p90");
+    int width = 16;  // the model column, as wide as its longest name
+    for (const auto& [model, by_material] : models) width = std::max(width, int(model.size()));
+    std::printf("  %-*s %9s %8s %8s", width, "model", "materials", "median", "p90");
     for (const std::string& o : ours) std::printf("  %15s", ("beats " + o).c_str());
     std::printf("\n");
     for (const auto& [model, by_material] : models) {
       std::vector<double> values;
       for (const auto& [m, v] : by_material) values.push_back(v);
-      std::printf("  %-16s %9zu %8.4f %8.4f", model.c_str(), values.size(), quantile(values, 0.5), quantile(values, 0.9));
+      std::printf("  %-*s %9zu %8.4f %8.4f", width, model.c_str(), values.size(), quantile(values, 0.5), quantile(values, 0.9));
       for (const std::string& o : ours) {
         if (o == model) {
           std::printf("  %15s", "-");
