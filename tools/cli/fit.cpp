@@ -79,10 +79,7 @@ FitData loadFitData(const FitCommandOptions& o) {
     std::optional<glm::ivec2> texel;
     if (!o.texel.empty()) {
       texel = glm::ivec2(o.texel[0], o.texel[1]);
-      const BtfSource& s = *input.source;
-      if (texel->x < 0 || texel->y < 0 || texel->x >= s.width() || texel->y >= s.height())
-        throw FileError(o.in, "texel (" + std::to_string(texel->x) + ", " + std::to_string(texel->y) + ") lies outside its " +
-                                  std::to_string(s.width()) + " x " + std::to_string(s.height()) + " texels");
+      if (const auto problem = texelOutside(*input.source, *texel)) throw FileError(o.in, *problem);
     }
     auto one = std::make_shared<BtfData>(btfTexel(*input.source, texel));
     d.measurements = texelMeasurements(*one);

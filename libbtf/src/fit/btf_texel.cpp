@@ -7,10 +7,15 @@
 
 namespace btf {
 
+std::optional<std::string> texelOutside(const BtfSource& btf, glm::ivec2 texel) {
+  if (texel.x >= 0 && texel.y >= 0 && texel.x < btf.width() && texel.y < btf.height()) return std::nullopt;
+  return "texel (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + ") lies outside its " +
+         std::to_string(btf.width()) + " x " + std::to_string(btf.height()) + " texels";
+}
+
 BtfData btfTexel(const BtfSource& btf, std::optional<glm::ivec2> texel) {
-  if (texel && (texel->x < 0 || texel->y < 0 || texel->x >= btf.width() || texel->y >= btf.height()))
-    throw Error(btf.name() + ": texel (" + std::to_string(texel->x) + ", " + std::to_string(texel->y) +
-                ") lies outside its " + std::to_string(btf.width()) + " x " + std::to_string(btf.height()) + " texels");
+  if (texel)
+    if (const auto problem = texelOutside(btf, *texel)) throw Error(btf.name() + ": " + *problem);
   const std::string name = btf.name() + (texel ? " texel (" + std::to_string(texel->x) + ", " + std::to_string(texel->y) + ")"
                                                : " mean over texels");
   BtfData out(1, 1, name, btf.views());

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -12,6 +13,10 @@
 #include "btf/io/btf_data.h"
 
 namespace btf {
+
+// Why `texel` is not a texel of `btf` ("texel (x, y) lies outside its w x h texels"), or nothing
+// when it is one: for callers that name the file in their own error.
+std::optional<std::string> texelOutside(const BtfSource& btf, glm::ivec2 texel);
 
 // Texel (x, y) of `btf`, or the mean over its texels, as a one-texel BTF holding the same views.
 // Streams the source one view at a time (progress per view). Throws btf::Error for a texel outside
