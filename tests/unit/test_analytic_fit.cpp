@@ -21,6 +21,7 @@
 #include "fit/fit_models.h"
 #include "merl_fit_reference.h"
 #include "support/test_support.h"
+#include "fit_expectations.h"
 
 namespace btf {
 namespace {
@@ -84,12 +85,7 @@ TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   AnalyticFitOptions options;
   options.family = AnalyticFamily::Ggx;
   const AnalyticFit fit = fitTableOf(truth, options);
-  const AnalyticParameters& p = fit.parameters;
-  EXPECT_NEAR(p.alpha, 0.15f, 0.05f * 0.15f);
-  for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(p.diffuse[c], kd[c], 0.05f * kd[c]) << c;
-    EXPECT_NEAR(p.specular[c], f0[c], 0.05f * f0[c]) << c;
-  }
+  test::expectGgxRecovered(fit.parameters, kd, f0, 0.15f, 0.05f);
   EXPECT_LT(fit.report.rel_rmse, 0.01);
   EXPECT_TRUE(fit.report.converged) << fit.report.ceres_report;
 }
