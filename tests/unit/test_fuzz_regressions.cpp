@@ -248,8 +248,19 @@ TEST(FuzzRegressions, WebpNamedExrIsRefusedByItsFormat) {
     const fs::path input = kCorpus / "fuzz_exr_stack" / name;
     const std::string message = fileErrorOf([&] { (void)readImage(input); });
     EXPECT_THAT(message, HasSubstr(input.string()));
-    EXPECT_THAT(message, HasSubstr("is a webp image; libbtf reads OpenEXR, PNG, JPEG, TIFF and Radiance HDR images"));
+    EXPECT_THAT(message, HasSubstr("is not an OpenEXR, PNG, JPEG, TIFF or Radiance HDR image (by its first bytes)"));
   }
+}
+
+// fuzz_exr_stack (an abort): a corrupt header named .exr that OpenEXR refused; OpenImageIO then
+// tried each of its readers on it, and the RLA reader aborted (an assertion) in open. Only the
+// reader of the format the first bytes name is opened now, and only for the five formats libbtf
+// reads.
+TEST(FuzzRegressions, OnlyTheReaderOfTheFilesOwnFormatIsTried) {
+  const fs::path input = kCorpus / "fuzz_exr_stack" / "regression-corrupt-header-reaching-the-rla-reader.exr";
+  const std::string message = fileErrorOf([&] { (void)readImageStack(input); });
+  EXPECT_THAT(message, HasSubstr(input.string()));
+  EXPECT_THAT(message, HasSubstr("is not an OpenEXR, PNG, JPEG, TIFF or Radiance HDR image (by its first bytes)"));
 }
 
 // fuzz_btf_json: an angle of 74 digits overflowed std::stof, whose std::out_of_range escaped the

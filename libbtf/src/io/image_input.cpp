@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <string>
@@ -158,6 +159,25 @@ void checkExrAttributeSizes(const fs::path& path) {
   }
 }
 
+// The OpenImageIO reader of an image by its first bytes, or empty when it is none of the five
+// formats libbtf reads.
+std::string readerByMagic(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[8] = {};
+  in.read(reinterpret_cast<char*>(b), sizeof b);
+  const std::streamsize n = in.gcount();
+  auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return n >= std::streamsize(magic.size()) && std::equal(magic.begin(), magic.end(), b);
+  };
+  if (starts({0x76, 0x2f, 0x31, 0x01})) return "openexr";
+  if (starts({0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a})) return "png";
+  if (starts({0xff, 0xd8, 0xff})) return "jpeg";
+  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42}) || starts({'I', 'I', 43, 0}) || starts({'M', 'M', 0, 43}))
+    return "tiff";  // classic and BigTIFF, either byte order
+  if (starts({'#', '?'})) return "hdr";  // "#?RADIANCE" or "#?RGBE"
+  return {};
+}
+
 }  // namespace
 
 void setImageSizeLimits(const ImageSizeLimits& limits) {
@@ -190,15 +210,17 @@ std::unique_ptr<OIIO::ImageInput> openImageInput(const fs::path& path) {
   if (fs::file_size(path, ec) == 0 && !ec) throw FileError(path, "empty file, expected an image");
   applyOpenExrLimit();
   checkExrAttributeSizes(path);
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw FileError(path, "cannot be read as an image (corrupt?): " + OIIO::geterror());
-  // OpenImageIO tries every reader it has on a file its extension's reader refuses. libbtf's data
-  // comes in five formats; any other (WebP, GIF, PSD, DPX, ...) is refused by name rather than
-  // decoded: each reader is code a corrupt file can reach, and a 22-byte WebP decodes to hundreds
-  // of megapixels.
-  const std::string format = in->format_name();
-  if (format != "openexr" && format != "png" && format != "jpeg" && format != "tiff" && format != "hdr")
-    throw FileError(path, "is a " + format + " image; libbtf reads OpenEXR, PNG, JPEG, TIFF and Radiance HDR images");
+  // Only the reader of the file's own format is opened. ImageInput::open would try every reader
+  // OpenImageIO has on a file its extension's reader refuses, and each is code a corrupt file can
+  // reach: a 22-byte WebP decoded to hundreds of megapixels, and the RLA reader aborts (an
+  // assertion) on a corrupt header. libbtf's data comes in five formats; any other is refused.
+  const std::string format = readerByMagic(path);
+  if (format.empty())
+    throw FileError(path, "is not an OpenEXR, PNG, JPEG, TIFF or Radiance HDR image (by its first bytes), the formats libbtf reads");
+  auto in = OIIO::ImageInput::create(format);
+  if (!in) throw FileError(path, "OpenImageIO has no " + format + " reader: " + OIIO::geterror());
+  OIIO::ImageSpec opened;
+  if (!in->open(path.string(), opened)) throw FileError(path, "cannot be read as an image (corrupt?): " + in->geterror());
   requireImageSizeWithinLimits(path, in->spec());
   return in;
 }
