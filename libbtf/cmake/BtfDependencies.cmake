@@ -4,7 +4,9 @@ find_package(OpenEXR CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 find_package(flann CONFIG REQUIRED)
 find_package(embree 3 CONFIG REQUIRED)  # the renderer's BVH
-find_package(assimp CONFIG REQUIRED)    # OBJ and PLY meshes of scenes
+# OBJ meshes of scenes. tinyobjloader is one header: libbtf compiles its implementation (obj_mesh.cpp)
+# and takes only the header's folder from the package, not the prebuilt library.
+find_package(tinyobjloader CONFIG REQUIRED)
 find_package(nanoflann CONFIG REQUIRED) # a peer of the photon map's kd-tree, in benchmarks only
 find_package(TBB CONFIG REQUIRED)
 find_package(Boost 1.74 REQUIRED)   # header-only Boost.Math (chi-square distribution)

@@ -1,5 +1,5 @@
-// Meshes of scenes: loadTriangleMeshes (Assimp, then our checks and clean-up). The first byte picks
-// the format by the file's extension (even: .obj, odd: .ply); the rest is the file.
+// Meshes of scenes: loadTriangleMeshes (OBJ through tinyobjloader, PLY by libbtf). The first
+// byte picks the format by the file's extension (even: .obj, odd: .ply); the rest is the file.
 #include "btf/render/triangle_mesh.h"
 #include "fuzz_support.h"
 

@@ -236,6 +236,11 @@ void mesh(const fs::path& out) {
   put(out / "quad.obj", obj + "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
                               "f 1/1/1 2/2/1 3/3/1 4/4/1\n");
   put(out / "degenerate.obj", obj + "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 1 2 9\n");
+  // Its own material library (fuzz_mesh writes the input as input.obj), so that mutations reach the
+  // .mtl reader too; a pentagon for the triangulation, groups and a change of material.
+  put(out / "materials.obj", obj + "mtllib input.obj\nnewmtl red\nKd 0.8 0.1 0.1\nnewmtl lamp\nKe 4 4 4\n"
+                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\no box\ng side\nusemtl red\n"
+                                   "f 1 2 3 4 5\nusemtl lamp\nf -1 -2 -3\ng top\nf 1 3 5\n");
   put(out / "ascii.ply", ply + std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
                                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));

@@ -1,5 +1,5 @@
 // Triangle meshes of the renderer: smooth vertex normals (angle weighting, creases, vertex sharing),
-// cleaning, transforms, the built-in shapes, and reading OBJ / PLY / .ply.gz files with one clear
+// cleaning, transforms, the built-in shapes, and reading OBJ / PLY files and their gzips with one clear
 // FileError per kind of bad file.
 #include <gtest/gtest.h>
 
@@ -511,7 +511,7 @@ TEST(TriangleMeshFiles, BinaryPlyLoads) {
   const TriangleMesh& mesh = meshes[0];
   EXPECT_NE(mesh.name.find("tiny.ply"), std::string::npos) << mesh.name;
   EXPECT_TRUE(mesh.normals.empty());  // the file has none
-  // No material in the file: the defaults, not those of Assimp's stand-in material.
+  // No material in a PLY file: the defaults.
   EXPECT_TRUE(mesh.file_material.empty()) << mesh.file_material;
   EXPECT_EQ(mesh.file_diffuse, TriangleMesh{}.file_diffuse);
   EXPECT_EQ(mesh.file_emission, Rgb(0.0f));
@@ -561,6 +561,42 @@ void expectLoadError(const fs::path& path, const std::string& problem) {
   }
 }
 
+// Normals and texture coordinates of the vertex element, a pentagon as a fan, a vertex no face
+// uses left out, and elements and properties a mesh does not need skipped.
+TEST(TriangleMeshFiles, PlyNormalsTextureCoordinatesAndPolygons) {
+  test::TempDir dir;
+  writeFile(dir / "pentagon.ply",
+            "ply\nformat ascii 1.0\ncomment made by hand\nelement camera 1\nproperty float view_px\n"
+            "element vertex 6\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\n"
+            "property float ny\nproperty float nz\nproperty uchar red\nproperty float s\nproperty float t\n"
+            "element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n"
+            "7.5\n"
+            "0 0 0 0 0 2 255 0 0\n1 0 0 0 0 2 255 1 0\n1.5 1 0 0 0 2 255 1 1\n"
+            "9 9 9 0 0 2 255 0.5 0.5\n0.5 1.5 0 0 0 2 255 0.5 1\n-0.5 1 0 0 0 2 255 0 1\n"
+            "5 0 1 2 4 5 2 0.5 0.5\n");
+  const auto meshes = loadTriangleMeshes(dir / "pentagon.ply");
+  ASSERT_EQ(meshes.size(), 1u);
+  const TriangleMesh& mesh = meshes[0];
+  EXPECT_EQ(mesh.triangles.size(), 3u);
+  ASSERT_EQ(mesh.positions.size(), 5u);  // vertex 3 is used by no face
+  for (const glm::vec3& p : mesh.positions) EXPECT_NE(p, glm::vec3(9.0f));
+  ASSERT_EQ(mesh.normals.size(), 5u);
+  EXPECT_EQ(mesh.normals[0], glm::vec3(0, 0, 1));  // unit length
+  ASSERT_EQ(mesh.uvs.size(), 5u);
+  EXPECT_EQ(mesh.uvs[2], glm::vec2(1, 1));
+  float area = 0;
+  for (const glm::uvec3& t : mesh.triangles) area += 0.5f * windingNormal(mesh, t).z;
+  EXPECT_NEAR(area, 2.0f, 1e-6);  // counter-clockwise, the pentagon's area (shoelace formula)
+
+  // An element declared twice, and more vertices than 32-bit indices address, are refused.
+  writeFile(dir / "twice.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 1\n"
+                               "property float x\nend_header\n0\n0\n");
+  expectLoadError(dir / "twice.ply", "PLY element 'vertex' declared twice");
+  writeFile(dir / "huge.ply", "ply\nformat ascii 1.0\nelement vertex 4294967296\nproperty float x\nproperty float y\n"
+                              "property float z\nend_header\n");
+  expectLoadError(dir / "huge.ply", "4294967296 vertices");
+}
+
 TEST(TriangleMeshFiles, MissingFile) {
   test::TempDir dir;
   expectLoadError(dir / "nothing.ply", "no such mesh file");
@@ -583,8 +619,18 @@ TEST(TriangleMeshFiles, UnknownExtension) {
   expectLoadError(dir / "mesh.stl", "unknown mesh format");
   expectLoadError(dir / "mesh", "unknown mesh format");
   expectLoadError(dir / "mesh.txt.gz", "unknown mesh format");
-  writeFile(dir / "mesh.obj.GZ", gzipStored("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
-  expectLoadError(dir / "mesh.obj.GZ", "gzipped OBJ files are not read");
+}
+
+TEST(TriangleMeshFiles, GzippedObjFindsTheMtlBesideIt) {
+  test::TempDir dir;
+  writeFile(dir / "lamp.mtl", "newmtl lamp\nKd 0.25 0.5 0.75\nKe 4 4 4\n");
+  writeFile(dir / "mesh.obj.GZ", gzipStored("mtllib lamp.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n"));
+  const auto meshes = loadTriangleMeshes(dir / "mesh.obj.GZ");
+  ASSERT_EQ(meshes.size(), 1u);
+  EXPECT_EQ(meshes[0].triangles.size(), 1u);
+  EXPECT_EQ(meshes[0].file_material, "lamp");
+  EXPECT_EQ(meshes[0].file_diffuse, Rgb(0.25f, 0.5f, 0.75f));
+  EXPECT_EQ(meshes[0].file_emission, Rgb(4.0f));
 }
 
 TEST(TriangleMeshFiles, CorruptGzip) {
@@ -616,8 +662,7 @@ TEST(TriangleMeshFiles, PlyWithoutFaces) {
   expectLoadError(dir / "zero.ply", "");
 }
 
-// Assimp alone crashes on some of these, hangs on a header without end_header, and reads an ASCII
-// file cut inside its faces as if it were complete.
+// A file cut anywhere is an error naming the element where its data ends.
 TEST(TriangleMeshFiles, TruncatedPly) {
   test::TempDir dir;
   const std::string binary = binaryPly();
@@ -729,6 +774,35 @@ TEST(TriangleMeshFiles, ObjWithMaterialsAndGroups) {
   EXPECT_EQ(lamp.file_emission, Rgb(3.0f, 2.0f, 1.0f));
 }
 
+TEST(TriangleMeshFiles, ObjGroupChangingMaterialSplitsAndALibraryIsReadOnce) {
+  test::TempDir dir;
+  writeFile(dir / "two.mtl", "newmtl red\nKd 0.8 0.1 0.1\nnewmtl blue\nKd 0.1 0.1 0.8\n");
+  // The library named three times, two of them under other names: its materials are read once.
+  writeFile(dir / "split.obj",
+            "mtllib two.mtl ./two.mtl\nmtllib .//two.mtl\n"
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+            "o panel\nusemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\nusemtl red\nf 2 3 4\n");
+  const auto meshes = loadTriangleMeshes(dir / "split.obj");
+  ASSERT_EQ(meshes.size(), 2u);
+  EXPECT_EQ(meshes[0].file_material, "red");
+  EXPECT_EQ(meshes[0].triangles.size(), 2u);
+  EXPECT_EQ(meshes[1].file_material, "blue");
+  EXPECT_EQ(meshes[1].file_diffuse, Rgb(0.1f, 0.1f, 0.8f));
+  EXPECT_NE(meshes[1].name.find("split.obj:panel"), std::string::npos) << meshes[1].name;
+}
+
+// Statements a mesh does not need are not read: tinyobjloader copies its subdivision tags ("t")
+// into every group that follows them, so these 5 KB would take it gigabytes.
+TEST(TriangleMeshFiles, ObjStatementsBeyondAMeshAreNotRead) {
+  test::TempDir dir;
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 0 0 0.5\ns 1\nl 1 2\np 3\ncurv 0 1 1 2\n";
+  for (int i = 0; i < 300; ++i) text += "t a 0/0/8192\n";
+  for (int i = 0; i < 100; ++i) text += "f 1 2 3\ng part" + std::to_string(i) + "\n";
+  writeFile(dir / "tags.obj", text);
+  const auto meshes = loadTriangleMeshes(dir / "tags.obj");
+  EXPECT_EQ(meshes.size(), 100u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // loadTriangleMeshes: the shared data
 
@@ -752,7 +826,7 @@ TEST(TriangleMeshSharedData, StanfordBunnyAsciiPly) {
   ASSERT_EQ(meshes.size(), 1u);
   const TriangleMesh& bunny = meshes[0];
   EXPECT_EQ(bunny.triangles.size(), 69451u);
-  // Assimp may weld or drop unreferenced vertices; it must not invent any.
+  // Vertices no face uses are left out; none is invented.
   EXPECT_LE(bunny.positions.size(), 35947u);
   EXPECT_GE(bunny.positions.size(), 34000u);
   for (const glm::uvec3& t : bunny.triangles)

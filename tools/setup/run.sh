@@ -26,7 +26,7 @@ packages=(
   libeigen3-dev           # per-view PCA baseline (SVD)
   libceres-dev            # least-squares fits of analytic models (btf fit)
   libembree-dev libtbb-dev  # the renderer's BVH; TBB for parallel loops throughout
-  libassimp-dev           # OBJ (with .mtl) and PLY meshes for scenes
+  libtinyobjloader-dev    # OBJ meshes (with .mtl) for scenes
   libnanoflann-dev        # a peer kd-tree measured against the photon map's own (btf bench render)
   libboost-dev            # Boost.Math: chi-square quantiles of the sampler tests
   libzstd-dev zlib1g-dev  # .btfz sections: zstd payloads, CRC-32

@@ -1,5 +1,5 @@
-// Triangle meshes: read from OBJ (with its .mtl colours) and PLY files through Assimp, or built
-// from simple shapes; cleaned of triangles that cannot be hit; smooth vertex normals.
+// Triangle meshes: read from OBJ files (with their .mtl colours, through tinyobjloader) and PLY
+// files, or built from simple shapes; cleaned of triangles that cannot be hit; smooth vertex normals.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -33,7 +33,7 @@ struct MeshCleanup {
 };
 
 // Every part of an OBJ or PLY file (a .gz file is decompressed first, so `dragon.ply.gz` reads as a
-// PLY), one mesh per part, polygons triangulated, with the normals and UVs the file has. Throws
+// PLY), one mesh per part (an OBJ's group or object, and material), polygons triangulated, with the normals and UVs the file has. Throws
 // FileError naming the file for a missing or unreadable file, a file with no triangle at all, or
 // an unknown format.
 std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path);
