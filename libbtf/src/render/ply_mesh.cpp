@@ -1,9 +1,10 @@
 #include "ply_mesh.h"
 
-// Read by hand: the one PLY reader in Debian 12 short of VTK or PCL is Assimp's, and under
-// fuzz_mesh it looped for ever, read past the data, aborted, allocated gigabytes and wrote past a
-// heap block (README: fuzzing). PLY is a short format: a header of elements and their properties,
-// then the instances of each element in order, as words or as binary scalars.
+// Read by hand: the one PLY reader in Debian 12 outside large geometry libraries (CGAL, Open3D,
+// PCL, VTK) is Assimp's, and under fuzz_mesh it looped for ever, read past the data, aborted,
+// allocated gigabytes and wrote past a heap block (README: fuzzing). PLY is a short format: a
+// header of elements and their properties, then the instances of each element in order, as words
+// or as binary scalars.
 
 #include <algorithm>
 #include <charconv>
