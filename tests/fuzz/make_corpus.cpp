@@ -277,6 +277,20 @@ void octree(const fs::path& out) {
   fs::remove(scratch);
 }
 
+// Fit files of each model, as `btf fit` writes them, and a damaged one.
+void fit(const fs::path& out) {
+  const std::string info = R"("fit": {"source": "plastic.binary", "rel_rmse": 0.1, "converged": true}})";
+  put(out / "ggx.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "ggx", "parameters": )"
+                                    R"({"diffuse": [0.2, 0.1, 0.1], "f0": [0.04, 0.04, 0.04], "alpha": 0.1}, )") + info);
+  put(out / "ward.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "ward", "parameters": )"
+                                     R"({"diffuse": [0.3, 0.3, 0.3], "specular": [0.1, 0.1, 0.1], "alpha": 0.2}, )") + info);
+  const std::string lafortune = std::string(R"({"format": "libbtf-fit", "version": 1, "model": "lafortune", "parameters": )"
+                                            R"({"diffuse": [0.3, 0.2, 0.1], "lobes": [{"rho": [0.5, 0.5, 0.5], )"
+                                            R"("c": [-1, -1, 1], "exponent": 20}]}, )") + info;
+  put(out / "lafortune.json", lafortune);
+  put(out / "truncated.json", lafortune.substr(0, lafortune.size() / 2));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -286,7 +300,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   for (const char* target : {"fuzz_merl", "fuzz_rgl", "fuzz_btfz", "fuzz_btf_json", "fuzz_btf_image", "fuzz_exr_stack",
-                             "fuzz_scene", "fuzz_mesh", "fuzz_octree"})
+                             "fuzz_scene", "fuzz_mesh", "fuzz_octree", "fuzz_fit"})
     fs::create_directories(out / target);
   merl(out / "fuzz_merl");
   rgl(out / "fuzz_rgl");
@@ -297,5 +311,6 @@ int main(int argc, char** argv) {
   scene(out / "fuzz_scene");
   mesh(out / "fuzz_mesh");
   octree(out / "fuzz_octree");
+  fit(out / "fuzz_fit");
   return 0;
 }
