@@ -54,7 +54,7 @@ void runEval(const EvalOptions& o) {
   const Rgb f = brdf.eval(wi, wo);
   const char* lookup = format == MeasuredFormat::RglTensor     ? "rgl parameterization"
                        : format == MeasuredFormat::FittedModel ? "analytic"
-                                                               : lookupName(o.lookup);
+                                                               : tableLookupName(o.lookup);
   const float deg = 180.0f / kPi;
   if (o.json) {
     nlohmann::json out{{"file", o.file}, {"lookup", lookup}};

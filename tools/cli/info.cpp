@@ -138,7 +138,7 @@ void runInfo(const InfoOptions& o) {
   // between samples, truncation (MERL's own reader) gives each sample's value to the whole cell
   // above it; the README's "Real measured data" section gives the size of the difference.
   const TabulatedBrdf brdf(table, o.lookup);
-  const char* lookup_name = lookupName(o.lookup);
+  const char* lookup_name = tableLookupName(o.lookup);
   const nlohmann::json albedo = albedoJson(brdf);
   const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, o.fits_of);
   const std::optional<OctreeTable> octree =

@@ -53,19 +53,8 @@ std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path
 }
 
 TableLookup parseLookup(const std::string& name) {
-  if (name == "nearest") return TableLookup::Nearest;
-  if (name == "interpolated") return TableLookup::Interpolated;
-  if (name == "truncated") return TableLookup::Truncated;
-  throw Error("unknown lookup '" + name + "' (expected interpolated, nearest or truncated)");
-}
-
-const char* lookupName(TableLookup lookup) {
-  switch (lookup) {
-    case TableLookup::Nearest: return "nearest";
-    case TableLookup::Truncated: return "truncated";
-    case TableLookup::Interpolated: break;
-  }
-  return "interpolated";
+  if (const std::optional<TableLookup> lookup = parseTableLookup(name)) return *lookup;
+  throw Error("unknown lookup '" + name + "' (expected " + kTableLookupNames + ")");
 }
 
 }  // namespace btf::cli

@@ -26,8 +26,8 @@ MerlTable loadMeasuredTable(const std::filesystem::path& path);
 // OctreeBrdf with `lookup` for an octree.
 std::unique_ptr<Material> loadMeasuredMaterial(const std::filesystem::path& path, TableLookup lookup);
 
-// "interpolated", "nearest" or "truncated" (the --lookup option of several subcommands).
+// The --lookup option of several subcommands (tableLookupName gives the name back); throws
+// btf::Error for a name that is none of the lookups.
 TableLookup parseLookup(const std::string& name);
-const char* lookupName(TableLookup lookup);
 
 }  // namespace btf::cli

@@ -84,9 +84,8 @@ std::optional<BsdfSample> OctreeBrdf::sample(const glm::vec3& wo, glm::vec2, glm
 float OctreeBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const { return cosineWeightedPdf(wi, wo); }
 
 std::string OctreeBrdf::name() const {
-  const char* lookup = lookup_ == TableLookup::Nearest ? "nearest" : lookup_ == TableLookup::Truncated ? "truncated" : "interpolated";
   char text[96];
-  std::snprintf(text, sizeof text, "octree(tolerance=%g, lookup=%s)", octree_->tolerance(), lookup);
+  std::snprintf(text, sizeof text, "octree(tolerance=%g, lookup=%s)", octree_->tolerance(), tableLookupName(lookup_));
   return text;
 }
 

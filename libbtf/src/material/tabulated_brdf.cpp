@@ -149,13 +149,23 @@ std::optional<BsdfSample> TabulatedBrdf::sample(const glm::vec3& wo, glm::vec2, 
 
 float TabulatedBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const { return cosineWeightedPdf(wi, wo); }
 
-std::string TabulatedBrdf::name() const {
-  switch (lookup_) {
-    case TableLookup::Nearest: return "tabulated(lookup=nearest)";
-    case TableLookup::Truncated: return "tabulated(lookup=truncated)";
+const char* tableLookupName(TableLookup lookup) {
+  switch (lookup) {
+    case TableLookup::Nearest: return "nearest";
+    case TableLookup::Truncated: return "truncated";
     case TableLookup::Interpolated: break;
   }
-  return "tabulated(lookup=interpolated)";
+  return "interpolated";
+}
+
+std::optional<TableLookup> parseTableLookup(std::string_view name) {
+  for (const TableLookup lookup : {TableLookup::Nearest, TableLookup::Interpolated, TableLookup::Truncated})
+    if (name == tableLookupName(lookup)) return lookup;
+  return std::nullopt;
+}
+
+std::string TabulatedBrdf::name() const {
+  return std::string("tabulated(lookup=") + tableLookupName(lookup_) + ")";
 }
 
 MerlTable tabulate(const Material& material) {

@@ -209,10 +209,9 @@ std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::str
   auto tableLookup = [&] {
     TableLookup lookup = TableLookup::Interpolated;
     if (m.has("lookup")) {
-      const std::string name = m["lookup"].string();
-      if (name == "nearest") lookup = TableLookup::Nearest;
-      else if (name == "truncated") lookup = TableLookup::Truncated;
-      else if (name != "interpolated") m["lookup"].fail("expected interpolated, nearest or truncated");
+      const std::optional<TableLookup> named = parseTableLookup(m["lookup"].string());
+      if (!named) m["lookup"].fail(std::string("expected ") + kTableLookupNames);
+      lookup = *named;
     }
     return lookup;
   };

@@ -20,6 +20,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "btf/io/merl.h"
@@ -28,6 +30,12 @@
 namespace btf {
 
 enum class TableLookup { Nearest, Interpolated, Truncated };
+
+// Lookups by the names options and scene files give them: "nearest", "interpolated", "truncated".
+const char* tableLookupName(TableLookup lookup);
+// The lookup of that name; std::nullopt for any other.
+std::optional<TableLookup> parseTableLookup(std::string_view name);
+inline constexpr const char* kTableLookupNames = "interpolated, nearest or truncated";  // for messages
 
 class TabulatedBrdf final : public Material {
  public:
