@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "btf/core/error.h"
+#include "file_normal.h"
 #include "obj_check.h"
 
 namespace btf::render {
@@ -121,9 +122,7 @@ std::vector<TriangleMesh> readObjMeshes(const std::filesystem::path& path, std::
             }
             if (all_normals) {
               const tinyobj::real_t* n = &attrib.normals[3 * std::size_t(i.normal_index)];
-              const glm::vec3 normal{n[0], n[1], n[2]};
-              const float length = glm::length(normal);
-              out.normals.push_back(length > 0 && std::isfinite(length) ? normal / length : glm::vec3(0.0f));
+              out.normals.push_back(fileNormal({n[0], n[1], n[2]}));
             }
           }
           triangle[int(k)] = it->second;

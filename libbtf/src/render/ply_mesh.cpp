@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "btf/core/error.h"
+#include "file_normal.h"
 
 namespace btf::render {
 namespace {
@@ -280,10 +281,8 @@ TriangleMesh readPlyMesh(const std::filesystem::path& path, std::string_view byt
         positions.push_back({toFloat(scalars[std::size_t(position[0])]), toFloat(scalars[std::size_t(position[1])]),
                              toFloat(scalars[std::size_t(position[2])])});
         if (normal[0] >= 0) {
-          const glm::vec3 n{toFloat(scalars[std::size_t(normal[0])]), toFloat(scalars[std::size_t(normal[1])]),
-                            toFloat(scalars[std::size_t(normal[2])])};
-          const float length = glm::length(n);
-          normals.push_back(length > 0 && std::isfinite(length) ? n / length : glm::vec3(0.0f));
+          normals.push_back(fileNormal({toFloat(scalars[std::size_t(normal[0])]), toFloat(scalars[std::size_t(normal[1])]),
+                                        toFloat(scalars[std::size_t(normal[2])])}));
         }
         if (uv[0] >= 0) uvs.push_back({toFloat(scalars[std::size_t(uv[0])]), toFloat(scalars[std::size_t(uv[1])])});
       }

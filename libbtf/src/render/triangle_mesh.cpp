@@ -5,12 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <charconv>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <utility>
 
 #include "btf/core/error.h"
