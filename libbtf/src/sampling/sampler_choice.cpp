@@ -4,18 +4,20 @@
 #include <utility>
 
 #include "btf/core/error.h"
+#include "btf/sampling/octree_bound_sampler.h"
 #include "btf/sampling/warp.h"
 
 namespace btf {
 namespace {
 
-constexpr std::array<std::pair<SamplerChoice, std::string_view>, 6> kNames = {{
+constexpr std::array<std::pair<SamplerChoice, std::string_view>, 7> kNames = {{
     {SamplerChoice::Uniform, "uniform"},
     {SamplerChoice::Cosine, "cosine"},
     {SamplerChoice::Own, "material"},
     {SamplerChoice::Tabulated, "tabulated"},
     {SamplerChoice::DpCdf, "dp-cdf"},
     {SamplerChoice::Quadtree, "quadtree"},
+    {SamplerChoice::OctreeBound, "octree-bound"},
 }};
 
 // A material sampled by a fixed hemisphere warp: what a renderer without importance sampling does.
@@ -76,6 +78,13 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
     case SamplerChoice::Tabulated: return makeSampler(SamplerKind::Tabulated, std::move(material), options);
     case SamplerChoice::DpCdf: return makeSampler(SamplerKind::DpCdf, std::move(material), options);
     case SamplerChoice::Quadtree: return makeSampler(SamplerKind::Quadtree, std::move(material), options);
+    case SamplerChoice::OctreeBound: {
+      auto octree = std::dynamic_pointer_cast<const OctreeBrdf>(material);
+      if (!octree)
+        throw Error("sampler 'octree-bound' reads the node bounds of an octree table; " +
+                    (material ? material->name() : std::string("no material")) + " is not one (convert it with btf convert ... .octree)");
+      return std::make_shared<OctreeBoundSampler>(std::move(octree));
+    }
   }
   throw Error("unknown sampler choice");
 }
@@ -85,6 +94,12 @@ std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3&
   if (const auto* binned = dynamic_cast<const BinnedSampler*>(&sampled)) {
     int tries = 0;
     const auto d = binned->sampleDirection(wo, u, tries);
+    if (!d) return std::nullopt;
+    pdf = d->pdf;
+    return d->wi;
+  }
+  if (const auto* octree = dynamic_cast<const OctreeBoundSampler*>(&sampled)) {
+    const auto d = octree->sampleDirection(wo, u);
     if (!d) return std::nullopt;
     pdf = d->pdf;
     return d->wi;

@@ -1,6 +1,7 @@
 // The samplers `btf sample`, `btf bench sampling` and scenes choose from, by name: two warps that ignore the
 // material (uniform and cosine hemisphere), the material's own sample() (for an RGL file the
-// Dupuy-Jakob warp of its tensor: the peer baseline), and the three tabulated samplers of libbtf.
+// Dupuy-Jakob warp of its tensor: the peer baseline), the three tabulated samplers of libbtf, and
+// for octree tables the sampler driven by the tree's node bounds (octree_bound_sampler.h).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -15,16 +16,17 @@
 
 namespace btf {
 
-enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree };
+enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree, OctreeBound };
 
-// "uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree".
+// "uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree", "octree-bound".
 std::string_view toString(SamplerChoice choice);
 std::optional<SamplerChoice> parseSamplerChoice(std::string_view name);
 // The names above, comma-separated, for help and error messages.
 std::string samplerChoiceNames();
 
 // The material with the chosen sampler: eval is always the material's, sample/pdf the sampler's.
-// Throws btf::Error as makeSampler does for invalid options.
+// Throws btf::Error as makeSampler does for invalid options, and for octree-bound on a material
+// that is not an octree table.
 std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_ptr<const Material> material,
                                             const SamplerOptions& options);
 
