@@ -41,6 +41,24 @@ TEST(Sample, CorrectSamplerPassesTheChiSquareTestAndWritesThePicture) {
   EXPECT_EQ(filesIn(dir.path()).size(), 1u) << "the PNG only, no temporary files";
 }
 
+TEST(Sample, OctreeBoundSamplesAnOctreeAndRefusesOtherTables) {
+  TempDir dir;
+  const auto octree = dir / "plastic.octree";
+  CommandResult r = runBtf({"convert", plasticTable().string(), octree.string(), "--tolerance", "0.02"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // alpha = 0.01, N = 50,000 draws, seed fixed.
+  r = runBtf({"sample", octree.string(), "--theta-o", "55", "--sampler", "octree-bound", "-n", "50000", "--seed", "2",
+              "-o", (dir / "o.png").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(parseJsonOutput(r)["accepted"].get<bool>()) << r.output;
+  r = runBtf({"sample", plasticTable().string(), "--theta-o", "55", "--sampler", "octree-bound", "-o",
+              (dir / "t.png").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("octree-bound"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not one"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "t.png"));
+}
+
 TEST(Sample, TextOutputNamesStatisticDofAndPValue) {
   TempDir dir;
   const CommandResult r = runBtf({"sample", plasticTable().string(), "--theta-o", "10", "--sampler", "cosine", "-n",
