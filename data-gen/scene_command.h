@@ -5,6 +5,8 @@
 //   furnace  a sphere of the generated BRDF in a uniform white environment (every pixel shows the
 //            directional albedo at its view angle)
 //   plane    a Lambertian plane under one rectangular area light, whose radiance has a closed form
+//   closeup  a sphere of the generated BRDF filling the frame under a point light (btf fit-scene)
+//   distant  the same sphere small and far away under a uniform environment (btf fit-scene)
 #pragma once
 
 #include <CLI/CLI.hpp>

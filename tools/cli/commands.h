@@ -16,5 +16,6 @@ void registerCompressCommands(CLI::App& app);  // compress, decompress and merge
 void registerCompareCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerFitCommand(CLI::App& app);
+void registerFitSceneCommand(CLI::App& app);
 
 }  // namespace btf::cli

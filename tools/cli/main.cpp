@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   btf::cli::registerCompareCommand(app);
   btf::cli::registerRenderCommand(app);
   btf::cli::registerFitCommand(app);
+  btf::cli::registerFitSceneCommand(app);
   btf::tools::installTerminalHooks();
   try {
     app.parse(argc, argv);
