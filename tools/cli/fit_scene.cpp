@@ -210,6 +210,7 @@ void runFitScene(const FitSceneOptions& o) {
   if (!(o.budget > 0) || !std::isfinite(o.budget)) throw Error("--budget must be a positive relmse");
   FitSceneSettings settings;
   settings.fits = splitCommaList(o.fits);
+  for (const std::string& spec : settings.fits) (void)parseFitSpec(spec);  // refuse a bad one before any work
   settings.octree_tolerances.clear();
   for (const std::string& t : splitCommaList(o.tolerances)) settings.octree_tolerances.push_back(std::stod(t));
   settings.vq_epsilons.clear();
@@ -243,6 +244,14 @@ void runFitScene(const FitSceneOptions& o) {
   const fs::path work = out_dir / (stem + "-materials.work");
   fs::remove_all(work, ec);
   fs::create_directories(work);
+  // The candidates' files live in `work` until the end; it goes whether the command ends well or not.
+  struct RemoveOnExit {
+    fs::path path;
+    ~RemoveOnExit() {
+      std::error_code e;
+      fs::remove_all(path, e);
+    }
+  } remove_work{work};
 
   std::vector<MaterialResult> results;
   for (std::size_t k = 0; k < description.materials.size(); ++k) {
@@ -371,9 +380,9 @@ void runFitScene(const FitSceneOptions& o) {
     }
   }
 
-  // The lean scene file and its materials.
-  fs::remove_all(materials_dir, ec);
-  fs::create_directories(materials_dir);
+  // The lean scene file and its materials, staged in `work` and moved into place together.
+  const fs::path staged = work / "chosen";
+  fs::create_directories(staged);
   json lean_json = raw;
   for (auto& [name, m] : lean_json["materials"].items()) {
     rebase(m, "file", scene_dir, out_dir);
@@ -392,8 +401,7 @@ void runFitScene(const FitSceneOptions& o) {
     lean_total += c.bytes;
     json entry = lean_json["materials"][r.name];
     if (c.kind != "full") {
-      const fs::path target = materials_dir / c.file.filename();
-      fs::copy_file(c.file, target, fs::copy_options::overwrite_existing);
+      fs::copy_file(c.file, staged / c.file.filename(), fs::copy_options::overwrite_existing);
       entry = c.entry;
       entry["file"] = (fs::path(stem + "-materials") / c.file.filename()).string();
     }
@@ -402,8 +410,9 @@ void runFitScene(const FitSceneOptions& o) {
   }
   lean_json["comment"] = "btf fit-scene " + o.scene + " --budget " + fixed(o.budget, 6) + ": each measured material replaced by the "
                          "smallest representation whose rendered relmse in this scene is within the budget";
+  fs::remove_all(materials_dir, ec);
+  fs::rename(staged, materials_dir);
   writeFileAtomically(output, [&](std::ofstream& out) { out << lean_json.dump(2) << "\n"; });
-  fs::remove_all(work, ec);
 
   // The lean scene as a whole, against the reference (common random numbers again).
   const render::SceneDescription lean_cosine = withCosineSampling(lean);

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 namespace {
 
-// "family[:lobes][:linear]", e.g. "lafortune:2", "ggx:linear".
+}  // namespace
+
 AnalyticFitOptions parseFitSpec(const std::string& spec) {
   AnalyticFitOptions o;
   std::stringstream in(spec);
@@ -42,6 +43,8 @@ AnalyticFitOptions parseFitSpec(const std::string& spec) {
   if (o.lobes < 1 || o.lobes > 3) throw Error("fit '" + spec + "': lafortune takes 1 to 3 lobes");
   return o;
 }
+
+namespace {
 
 std::string fitLabel(const AnalyticFitOptions& o) {
   std::string label = std::string("fit ") + analyticFamilyName(o.family);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "btf/fit/analytic_fit.h"
 #include "btf/material/material.h"
 
 namespace btf::cli {
@@ -33,6 +34,10 @@ struct MaterialCandidate {
   nlohmann::json entry;  // the scene entry naming `file` ("full": the scene's own entry)
   std::string note;      // e.g. the fit's table rel_rmse, or why a candidate was left out
 };
+
+// A fit of the settings, "family[:lobes][:linear|log]" (e.g. "lafortune:2", "ggx:linear"); throws
+// btf::Error naming the spec.
+AnalyticFitOptions parseFitSpec(const std::string& spec);
 
 // The material's type in the scene ("merl", "rgl", "octree", "btf"); other types (analytic models,
 // published and own fits) are not reduced: reducible() says so.
