@@ -13,11 +13,13 @@
 // a material always has a choice; a material that keeps it "could not be reduced".
 //
 // Samplers: with the chosen representations in place, each reduced material tries cosine, its own
-// sample() (an analytic fit's importance sampler), DP-CDF (at epsilon 1e-3: a scene names its
-// sampler, not the sampler's options) and the tabulated sampler, in that order (BTFs: the first two). The others keep the scene's samplers. The error is now noise:
+// sample() (an analytic fit's importance sampler), for octree tables the sampler of the tree's
+// node bounds, DP-CDF (at epsilon 1e-3: a scene names its sampler, not the sampler's options) and
+// the tabulated sampler (BTFs: the first two). The others keep the scene's samplers. The error is now noise:
 // the relmse at the scene's spp (another seed) against a render at --reference-spp-factor times
-// the spp. The first sampler within the budget is kept; if none is, the one with the least error is kept, and
-// the output says so.
+// the spp. Of the samplers within the budget, the one with the fewest bytes is kept, and of equal
+// bytes (the warps and a material's own sampler hold none) the least noisy; if none is within the
+// budget, the least noisy is kept and the output says so.
 //
 // Outputs: the lean scene (paths relative to its folder), the chosen material files in
 // <stem>-materials/, <stem>.csv (every candidate: bytes, eval/s, samples/s, rendered relmse),
@@ -33,6 +35,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -46,6 +49,7 @@
 #include "btf/render/render_output.h"
 #include "btf/render/scene_loader.h"
 #include "btf/sampling/binned_sampler.h"
+#include "btf/sampling/octree_bound_sampler.h"
 #include "btf/sampling/sampler_choice.h"
 #include "btf/sampling/warp.h"
 #include "comma_list.h"
@@ -259,14 +263,14 @@ void runFitScene(const FitSceneOptions& o) {
     r.name = description.materials[k].name;
     const json& materials = raw["materials"];
     if (!materials.is_object() || !materials.contains(r.name)) {
-      r.skipped = "comes from a mesh's material library (a Lambert)";
+      r.skipped = "a Lambert from a mesh's material library";
       results.push_back(std::move(r));
       continue;
     }
     const json& entry = materials[r.name];
     r.type = entry.value("type", "");
     if (!reducible(r.type)) {
-      r.skipped = r.type + " is an analytic model already";
+      r.skipped = r.type + ": an analytic model already";
       results.push_back(std::move(r));
       continue;
     }
@@ -342,11 +346,13 @@ void runFitScene(const FitSceneOptions& o) {
       MaterialResult& r = results[k];
       if (r.chosen < 0) continue;
       const MaterialCandidate& c = r.candidates[std::size_t(r.chosen)];
-      const bool btf_like = c.kind == "vq" || r.type == "btf";
+      // A BTF (kept, or VQ-compressed) takes only its own sampler and the warps; a fit of it is a BRDF.
+      const bool btf_like = c.kind == "vq" || (c.kind == "full" && r.type == "btf");
       // DP-CDF at the scene format's tolerance (SamplerOptions' default): scenes name a sampler, not
       // its options.
       std::vector<std::string> tries = {"cosine", "material"};
       if (!btf_like) tries.insert(tries.end(), {"dp-cdf", "tabulated"});
+      if (c.kind == "octree" || (c.kind == "full" && r.type == "octree")) tries.insert(tries.begin() + 2, "octree-bound");
       Progress progress("samplers of " + r.name, tries.size());
       for (const std::string& name : tries) {
         MaterialResult::SamplerTry t;
@@ -354,19 +360,25 @@ void runFitScene(const FitSceneOptions& o) {
         render::SceneDescription d = lean;
         d.materials[k].sampled = withSampler(*parseSamplerChoice(name), d.materials[k].material, SamplerOptions{});
         if (const auto* binned = dynamic_cast<const BinnedSampler*>(d.materials[k].sampled.get())) t.bytes = binned->stats().bytes;
+        if (const auto* bound = dynamic_cast<const OctreeBoundSampler*>(d.materials[k].sampled.get())) t.bytes = bound->bytes();
         d.materials[k].sampler = name;
         t.relmse = render::compareImages(render(std::move(d), spp, o.seed + 2), converged).relmse;
         r.samplers.push_back(t);
         progress.advance();
       }
+      // Within the budget: the fewest bytes, and of equal bytes (the warps and the material's own
+      // sampler hold none) the least noise. None within: the least noise.
       int best = 0;
       for (int i = 0; i < int(r.samplers.size()); ++i) {
-        if (r.samplers[std::size_t(i)].relmse <= o.budget) {
-          r.chosen_sampler = i;
-          r.sampler_within_budget = true;
-          break;
+        const MaterialResult::SamplerTry& t = r.samplers[std::size_t(i)];
+        if (t.relmse < r.samplers[std::size_t(best)].relmse) best = i;
+        if (!(t.relmse <= o.budget)) continue;
+        if (r.chosen_sampler >= 0) {
+          const MaterialResult::SamplerTry& c = r.samplers[std::size_t(r.chosen_sampler)];
+          if (t.bytes > c.bytes || (t.bytes == c.bytes && t.relmse >= c.relmse)) continue;
         }
-        if (r.samplers[std::size_t(i)].relmse < r.samplers[std::size_t(best)].relmse) best = i;
+        r.chosen_sampler = i;
+        r.sampler_within_budget = true;
       }
       if (r.chosen_sampler < 0) r.chosen_sampler = best;
       const std::string& chosen = r.samplers[std::size_t(r.chosen_sampler)].name;
@@ -456,10 +468,7 @@ void runFitScene(const FitSceneOptions& o) {
   std::printf("\n");
   std::vector<std::string> kept_full;
   for (const MaterialResult& r : results) {
-    if (!r.skipped.empty()) {
-      std::printf("  %-12s kept as it is: %s\n", r.name.c_str(), r.skipped.c_str());
-      continue;
-    }
+    if (!r.skipped.empty()) continue;
     const MaterialCandidate& c = r.candidates[std::size_t(r.chosen)];
     std::printf("  %-12s %s, %llu B (of %llu), relmse %s; sampler %s\n", r.name.c_str(), c.label.c_str(),
                 static_cast<unsigned long long>(c.bytes), static_cast<unsigned long long>(r.candidates.back().bytes),
@@ -467,6 +476,16 @@ void runFitScene(const FitSceneOptions& o) {
                 r.chosen_sampler >= 0 ? r.samplers[std::size_t(r.chosen_sampler)].name.c_str() : "as in the scene");
     if (c.kind == "full") kept_full.push_back(r.name);
   }
+  // Materials left as they are, one line per reason (a mesh's library names its parts
+  // "file:name": the name is enough here).
+  std::map<std::string, std::string> kept;
+  for (const MaterialResult& r : results)
+    if (!r.skipped.empty()) {
+      const std::size_t colon = r.name.rfind(':');
+      std::string& names = kept[r.skipped];
+      names += (names.empty() ? "" : ", ") + (colon == std::string::npos ? r.name : r.name.substr(colon + 1));
+    }
+  for (const auto& [why, names] : kept) std::printf("  kept as they are (%s): %s\n", why.c_str(), names.c_str());
   std::printf("measured materials: %llu B lean against %llu B full (1/%.1f); the lean scene renders at relmse %s of the reference\n",
               static_cast<unsigned long long>(lean_total), static_cast<unsigned long long>(full_total),
               lean_total > 0 ? double(full_total) / double(lean_total) : 0.0, fixed(whole.relmse, 3).c_str());

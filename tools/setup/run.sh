@@ -123,13 +123,20 @@ demo() {
     "$bin/btf" compare "$out/cornell-ppm.exr" "$out/cornell-reference.exr" -o "$out/cornell-ppm-error.png" --scale 0.5
     echo "== the renderer's costs and the samplers at equal time (small sizes; btf bench render for the full run)"
     "$bin/btf" bench render -o "$out/bench-render" --resolution 64 --spp 1,4,16 --reference-spp 256 --photons 200000 --queries 50000
+    echo "== model no more than a scene needs: the real RGL material on a sphere filling the frame under a point light,"
+    echo "   and on a small, far sphere under a uniform sky; btf fit-scene picks per scene the smallest representation"
+    echo "   within a rendered relmse of 0.01 (tables, chart and renders beside each lean.json)"
+    "$bin/btf-datagen" scene closeup -o "$out/fit-closeup" --resolution 96 --spp 16
+    "$bin/btf-datagen" scene distant -o "$out/fit-distant" --resolution 96 --spp 16
+    "$bin/btf" fit-scene "$out/fit-closeup/scene.json" --budget 0.01 -o "$out/fit-closeup/lean.json"
+    "$bin/btf" fit-scene "$out/fit-distant/scene.json" --budget 0.01 -o "$out/fit-distant/lean.json"
   else
     echo "(no $real beside the checkout: skipping the real-data part)"
   fi
   echo "== outputs"
   ls -l "$out"
   echo "== done: the renders are $out/cornell-*.png (linear EXRs beside them), the error maps $out/*-error.png,"
-  echo "   the charts $out/*.png and $out/*/*.png"
+  echo "   the charts $out/*.png and $out/*/*.png, the lean scenes $out/fit-*/lean.json"
 }
 
 install_packages
