@@ -4,7 +4,9 @@
 //
 // Representations (fit_scene_candidates.h): analytic fits, octree tables, VQ forms, the full
 // material. Each is rendered in place of the material, and its error is the relmse
-// (render/image_metrics.h) of that image against the reference. Both renders use common random
+// (render/image_metrics.h) of that image against the reference: the larger of the relmse over the
+// whole image and over the pixels where the material is seen first (a material that fills a tenth
+// of the frame can lose its texture within an image-wide budget; its own pixels show it). Both renders use common random
 // numbers: every material is sampled by the cosine warp, whose directions do not depend on f,
 // and Russian roulette is off, so the same pixel sample follows the same path in both and the
 // images differ by f alone, not by the noise of two renders. Comparing two independent noisy renders would
@@ -35,6 +37,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -127,10 +130,58 @@ render::SceneDescription withCosineSampling(render::SceneDescription d) {
   return d;
 }
 
+// The material each pixel's centre sees first (-1: nothing, or a shape without a material).
+std::vector<int> firstHitMaterials(const render::SceneDescription& d) {
+  const render::Scene scene(d);
+  const int w = d.camera.width, h = d.camera.height;
+  std::vector<int> out(std::size_t(w) * std::size_t(h), -1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      render::SurfaceHit hit;
+      if (scene.intersect(scene.camera().generateRay({float(x) + 0.5f, float(y) + 0.5f}), hit))
+        out[std::size_t(y) * std::size_t(w) + std::size_t(x)] = d.shapes[hit.shape].material;
+    }
+  return out;
+}
+
+// A render's error against the reference: relmse over the whole image, and over the pixels where
+// the material is seen first (the whole image's when it is seen nowhere). A material that fills a
+// tenth of the frame can lose its texture at an image relmse well within a budget; its own pixels
+// show it. The candidate's error is the larger of the two.
+struct RenderedError {
+  double image = 0, seen = 0;
+  double worst() const { return std::max(image, seen); }
+};
+
+RenderedError renderedError(const Image& test, const Image& reference, const std::vector<int>& first_hit, int material) {
+  RenderedError e;
+  e.image = render::compareImages(test, reference).relmse;
+  std::size_t n = 0;
+  for (const int m : first_hit) n += m == material;
+  if (n == 0) {
+    e.seen = e.image;
+    return e;
+  }
+  // The material's pixels as two one-row images, measured by the same comparison.
+  Image a(int(n), 1, test.channels), b(int(n), 1, reference.channels);
+  std::size_t k = 0;
+  for (std::size_t p = 0; p < first_hit.size(); ++p) {
+    if (first_hit[p] != material) continue;
+    for (int c = 0; c < test.channels; ++c) {
+      a.pixels[k * std::size_t(test.channels) + std::size_t(c)] = test.pixels[p * std::size_t(test.channels) + std::size_t(c)];
+      b.pixels[k * std::size_t(reference.channels) + std::size_t(c)] = reference.pixels[p * std::size_t(reference.channels) + std::size_t(c)];
+    }
+    ++k;
+  }
+  e.seen = render::compareImages(a, b).relmse;
+  return e;
+}
+
 struct MaterialResult {
   std::string name, type;
   std::vector<MaterialCandidate> candidates;
-  std::vector<double> relmse;  // per candidate (NaN: not built)
+  std::vector<double> relmse;  // per candidate: RenderedError::worst (NaN: not built)
+  std::vector<RenderedError> errors;
   std::vector<Speed> speed;
   int chosen = -1;             // index into candidates
   std::string skipped;         // why the material was not reduced at all
@@ -138,7 +189,8 @@ struct MaterialResult {
   struct SamplerTry {
     std::string name;
     std::size_t bytes = 0;
-    double relmse = 0;
+    double relmse = 0;  // RenderedError::worst
+    RenderedError error;
   };
   std::vector<SamplerTry> samplers;
   int chosen_sampler = -1;
@@ -242,6 +294,7 @@ void runFitScene(const FitSceneOptions& o) {
 
   const render::SceneDescription cosine = withCosineSampling(description);
   const Image reference = render(cosine, spp, o.seed);
+  const std::vector<int> first_hit = firstHitMaterials(description);
 
   const std::string stem = output.stem().string();
   const fs::path materials_dir = out_dir / (stem + "-materials");
@@ -281,20 +334,21 @@ void runFitScene(const FitSceneOptions& o) {
     const std::uint64_t full_bytes = r.candidates.back().bytes;
     Progress progress("rendering " + r.name, r.candidates.size());
     for (const MaterialCandidate& c : r.candidates) {
-      double e = std::numeric_limits<double>::quiet_NaN();
+      RenderedError e{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
       Speed speed;
       if (c.material) {
         speed = measureSpeed(*c.material);
         if (c.kind == "full") {
-          e = 0;  // the reference itself, sample for sample
+          e = {0, 0};  // the reference itself, sample for sample
         } else {
           render::SceneDescription d = cosine;
           d.materials[k].material = c.material;
           d.materials[k].sampled = withSampler(SamplerChoice::Cosine, c.material, SamplerOptions{});
-          e = render::compareImages(render(std::move(d), spp, o.seed), reference).relmse;
+          e = renderedError(render(std::move(d), spp, o.seed), reference, first_hit, int(k));
         }
       }
-      r.relmse.push_back(e);
+      r.errors.push_back(e);
+      r.relmse.push_back(e.worst());
       r.speed.push_back(speed);
       progress.advance();
     }
@@ -312,9 +366,10 @@ void runFitScene(const FitSceneOptions& o) {
     }
     for (std::size_t i = 0; i < r.candidates.size(); ++i) {
       const MaterialCandidate& c = r.candidates[i];
-      std::printf("  %-46s %12llu B  %9s eval/s  %9s samples/s  relmse %-10s %s%s\n", c.label.c_str(),
+      std::printf("  %-46s %12llu B  %9s eval/s  %9s samples/s  relmse %-9s (seen %-9s) %s%s\n", c.label.c_str(),
                   static_cast<unsigned long long>(c.bytes), fixed(r.speed[i].eval_per_s, 3).c_str(),
-                  fixed(r.speed[i].samples_per_s, 3).c_str(), c.material ? fixed(r.relmse[i], 3).c_str() : "-",
+                  fixed(r.speed[i].samples_per_s, 3).c_str(), c.material ? fixed(r.errors[i].image, 3).c_str() : "-",
+                  c.material ? fixed(r.errors[i].seen, 3).c_str() : "-",
                   int(i) == r.chosen ? "<- chosen " : "", c.note.c_str());
     }
     results.push_back(std::move(r));
@@ -362,7 +417,8 @@ void runFitScene(const FitSceneOptions& o) {
         if (const auto* binned = dynamic_cast<const BinnedSampler*>(d.materials[k].sampled.get())) t.bytes = binned->stats().bytes;
         if (const auto* bound = dynamic_cast<const OctreeBoundSampler*>(d.materials[k].sampled.get())) t.bytes = bound->bytes();
         d.materials[k].sampler = name;
-        t.relmse = render::compareImages(render(std::move(d), spp, o.seed + 2), converged).relmse;
+        t.error = renderedError(render(std::move(d), spp, o.seed + 2), converged, first_hit, int(k));
+        t.relmse = t.error.worst();
         r.samplers.push_back(t);
         progress.advance();
       }
@@ -445,22 +501,24 @@ void runFitScene(const FitSceneOptions& o) {
 
   // Tables and the chart.
   writeFileAtomically(out_dir / (stem + ".csv"), [&](std::ofstream& out) {
-    out << "material,type,candidate,kind,bytes,eval_per_s,samples_per_s,relmse,chosen,note\n";
+    out << "material,type,candidate,kind,bytes,eval_per_s,samples_per_s,relmse_image,relmse_seen,chosen,note\n";
     for (const MaterialResult& r : results)
       for (std::size_t i = 0; i < r.candidates.size(); ++i) {
         const MaterialCandidate& c = r.candidates[i];
         std::string note = c.note;
         std::replace(note.begin(), note.end(), ',', ';');
         out << r.name << ',' << r.type << ',' << c.label << ',' << c.kind << ',' << c.bytes << ',' << r.speed[i].eval_per_s << ','
-            << r.speed[i].samples_per_s << ',' << (c.material ? fixed(r.relmse[i], 6) : "") << ',' << (int(i) == r.chosen) << ','
+            << r.speed[i].samples_per_s << ',' << (c.material ? fixed(r.errors[i].image, 6) : "") << ','
+            << (c.material ? fixed(r.errors[i].seen, 6) : "") << ',' << (int(i) == r.chosen) << ','
             << note << '\n';
       }
   });
   writeFileAtomically(out_dir / (stem + "-samplers.csv"), [&](std::ofstream& out) {
-    out << "material,sampler,bytes,relmse_noise,chosen,within_budget\n";
+    out << "material,sampler,bytes,relmse_noise_image,relmse_noise_seen,chosen,within_budget\n";
     for (const MaterialResult& r : results)
       for (std::size_t i = 0; i < r.samplers.size(); ++i)
-        out << r.name << ',' << r.samplers[i].name << ',' << r.samplers[i].bytes << ',' << fixed(r.samplers[i].relmse, 6) << ','
+        out << r.name << ',' << r.samplers[i].name << ',' << r.samplers[i].bytes << ',' << fixed(r.samplers[i].error.image, 6) << ','
+            << fixed(r.samplers[i].error.seen, 6) << ','
             << (int(i) == r.chosen_sampler) << ',' << r.sampler_within_budget << '\n';
   });
   const tools::GnuplotOutcome chart = drawChart(out_dir, stem, results, o.budget);

@@ -30,9 +30,10 @@
 // Materials: lambert (albedo), phong (diffuse, specular, exponent), ggx (diffuse, f0, alpha or
 // [alpha_x, alpha_y]), ward (diffuse, specular, alpha or [ax, ay]), lafortune (diffuse, lobes:
 // [{rho, c, exponent}]), merl (.binary, lookup), rgl (.bsdf), merl-fit (name, model, fits_dir),
-// btf (a .btfz file or an image folder; mapping uv | planar | box, uv_scale, axis for planar,
+// fitted (a `btf fit` file), octree (.octree, lookup), btf (a .btfz file or an image folder; mapping uv | planar | box, uv_scale, axis for planar,
 // filter bilinear | nearest). Each takes "sampler": material | cosine | uniform | tabulated |
-// dp-cdf | quadtree (a BTF varies over the surface, so only its own sampler and the warps apply).
+// dp-cdf | quadtree, and an octree also octree-bound (a BTF varies over the surface, so only its
+// own sampler and the warps apply).
 // Shapes: meshes from OBJ (with .mtl: "material": "mtl" gives every part a Lambert of its Kd and an
 // emission of its Ke; "part_materials" overrides parts and "skip_parts" leaves them out, by their
 // .mtl material name first, else their group name) and PLY
