@@ -76,6 +76,8 @@ TEST(FitSceneCli, AnalyticForTheAnalyticMaterialATableForTheRetroReflectiveOne) 
   EXPECT_FALSE(fs::exists(dir / "out" / "lean-materials.work"));
   std::ifstream csv(dir / "out" / "lean.csv");
   const std::string table((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(table.rfind("material,type,candidate,kind,bytes,eval_per_s,samples_per_s,relmse_image,relmse_seen,chosen,note\n", 0), 0u)
+      << table;
   EXPECT_NE(table.find("plastic,merl,fit ggx (log),fit,"), std::string::npos) << table;
   EXPECT_NE(table.find("retro,merl,octree t=0.1,octree,"), std::string::npos) << table;
   // The lean scene renders.
@@ -114,6 +116,9 @@ TEST(FitSceneCli, BadOptionsFailWithoutOutput) {
   r = runBtf({"fit-scene", scene.string(), "-o", (dir / "lean.json").string(), "--fits", "ggx:7"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("lobes are for lafortune"), std::string::npos) << r.output;
+  r = runBtf({"fit-scene", scene.string(), "-o", (dir / "lean.json").string(), "--measure", "pixels"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--measure"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "lean.json"));
   EXPECT_FALSE(fs::exists(dir / "lean-materials.work"));
 }

@@ -107,27 +107,48 @@ SampleSet sampleMeasurements(std::span<const MeasuredReflectance> data) {
   return builder.finish();
 }
 
-// One sample's residuals per channel: ln(1 + cos_i f_model) - ln(1 + cos_i f_data), or for the
-// linear objective cos_i (f_model - f_data).
+// One sample's residuals per channel, for the log objective: ln(1 + cos_i f_model) - ln(1 + cos_i
+// f_data).
 template <int kChannels, class Eval>
-struct SampleResidual {
+struct LogResidual {
   const FitSample* sample;
   int channel;  // the data channel of a one-channel fit; ignored for kChannels == 3
   Eval eval;
-  bool linear;
   template <class T>
   bool operator()(const T* p, T* r) const {
     using std::log;
     T f[kChannels];
     eval(p, *sample, f);
-    for (int c = 0; c < kChannels; ++c) {
-      const int data = kChannels == 3 ? c : channel;
-      r[c] = linear ? T(sample->cos_i) * f[c] - T(sample->value[data])
-                    : log(T(1) + T(sample->cos_i) * f[c]) - T(sample->target[data]);
-    }
+    for (int c = 0; c < kChannels; ++c)
+      r[c] = log(T(1) + T(sample->cos_i) * f[c]) - T(sample->target[kChannels == 3 ? c : channel]);
     return true;
   }
 };
+
+// The same for the linear objective: cos_i (f_model - f_data).
+template <int kChannels, class Eval>
+struct LinearResidual {
+  const FitSample* sample;
+  int channel;
+  Eval eval;
+  template <class T>
+  bool operator()(const T* p, T* r) const {
+    T f[kChannels];
+    eval(p, *sample, f);
+    for (int c = 0; c < kChannels; ++c) r[c] = T(sample->cos_i) * f[c] - T(sample->value[kChannels == 3 ? c : channel]);
+    return true;
+  }
+};
+
+// Every sample's residual block, of the objective's functor.
+template <template <int, class> class Residual, int kChannels, int kParameters, class Eval>
+void addResiduals(ceres::Problem& problem, const std::vector<FitSample>& samples, int channel, Eval eval,
+                  ceres::LossFunction* loss, double* p) {
+  for (const FitSample& s : samples)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Residual<kChannels, Eval>, kChannels, kParameters>(
+                                 new Residual<kChannels, Eval>{&s, channel, eval}),
+                             loss, p);
+}
 
 struct Bound {
   double lower, upper;
@@ -148,14 +169,11 @@ StartResult solveStart(const std::vector<FitSample>& samples, int channel, Eval 
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   ceres::SoftLOneLoss robust(kRobustScale);
-  const bool linear = objective == FitObjective::Linear;
-  ceres::LossFunction* loss = linear ? nullptr : &robust;  // linear: plain least squares, as the measure
   double* p = result.parameters.data();
-  for (const FitSample& s : samples) {
-    using Residual = SampleResidual<kChannels, Eval>;
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<Residual, kChannels, kParameters>(new Residual{&s, channel, eval, linear}), loss, p);
-  }
+  if (objective == FitObjective::Linear)  // plain least squares, as the measure
+    addResiduals<LinearResidual, kChannels, kParameters>(problem, samples, channel, eval, nullptr, p);
+  else
+    addResiduals<LogResidual, kChannels, kParameters>(problem, samples, channel, eval, &robust, p);
   for (int i = 0; i < kParameters; ++i) {
     problem.SetParameterLowerBound(p, i, bounds[std::size_t(i)].lower);
     problem.SetParameterUpperBound(p, i, bounds[std::size_t(i)].upper);
