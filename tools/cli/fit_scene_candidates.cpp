@@ -100,7 +100,11 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
   std::shared_ptr<const BtfSource> btf_source;
   std::vector<MeasuredReflectance> mean_texel;
   if (is_btf) {
-    btf_source = openBtfInput(file).source;
+    // One material of a .btfz database is named by the entry; anything else opens as `btf` reads it.
+    if (entry.contains("material") && entry["material"].is_string())
+      btf_source = std::make_shared<const VqBtf>(VqBtf::read(file, entry["material"].get<std::string>()));
+    else
+      btf_source = openBtfInput(file).source;
     mean_texel = texelMeasurements(btfTexel(*btf_source, std::nullopt));
   } else {
     table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
@@ -155,6 +159,7 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
       c.entry = is_btf ? entry : json{{"type", "btf"}};
       c.entry["file"] = c.file.string();
       c.entry.erase("sampler");
+      c.entry.erase("material");  // the new file holds this material alone
       c.bytes = storedBytes(c.file);
     } catch (const Error& e) {
       c.note = e.what();
