@@ -32,18 +32,15 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
-#include <sstream>
 
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
-#include "btf/core/rng.h"
 #include "btf/io/atomic_file.h"
 #include "btf/io/image.h"
 #include "btf/render/image_metrics.h"
@@ -53,10 +50,11 @@
 #include "btf/sampling/binned_sampler.h"
 #include "btf/sampling/octree_bound_sampler.h"
 #include "btf/sampling/sampler_choice.h"
-#include "btf/sampling/warp.h"
 #include "comma_list.h"
 #include "commands.h"
 #include "fit_scene_candidates.h"
+#include "fit_scene_measure.h"
+#include "fit_scene_report.h"
 #include "gnuplot_charts.h"
 #include "merl_fit_report.h"
 
@@ -79,126 +77,6 @@ struct FitSceneOptions {
   std::string measure = "image";
 };
 
-struct Speed {
-  double eval_per_s = 0, samples_per_s = 0;
-};
-
-// Evaluations and draws of the material's own sampler per second on one thread, over 20,000 fixed
-// direction pairs (a report, not a benchmark: btf_bench has those).
-Speed measureSpeed(const Material& m) {
-  Rng rng(9);
-  std::vector<glm::vec3> wi(20000), wo(20000);
-  std::vector<glm::vec2> u(20000);
-  for (std::size_t k = 0; k < wi.size(); ++k) {
-    wi[k] = squareToCosineHemisphere(rng.uniform2D());
-    wo[k] = squareToCosineHemisphere(rng.uniform2D());
-    u[k] = rng.uniform2D();
-  }
-  using Clock = std::chrono::steady_clock;
-  const glm::vec2 uv(0.5f);
-  float sink = 0;
-  auto t0 = Clock::now();
-  for (std::size_t k = 0; k < wi.size(); ++k) sink += m.eval(wi[k], wo[k], uv).g;
-  const double eval_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  t0 = Clock::now();
-  for (std::size_t k = 0; k < wi.size(); ++k)
-    if (const auto s = m.sample(wo[k], uv, u[k])) sink += s->pdf;
-  const double sample_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  volatile float keep = sink;
-  (void)keep;
-  return {eval_s > 0 ? double(wi.size()) / eval_s : 0.0, sample_s > 0 ? double(wi.size()) / sample_s : 0.0};
-}
-
-struct Renderer {
-  render::RenderSettings settings;
-  std::unique_ptr<render::Integrator> integrator = render::makePathTracer();
-  Image operator()(render::SceneDescription d, int spp, std::uint64_t seed) const {
-    render::RenderSettings s = settings;
-    s.spp = spp;
-    s.seed = seed;
-    const render::Scene scene(std::move(d));
-    return integrator->render(scene, s).color;
-  }
-};
-
-// Every material sampled by the cosine warp (common random numbers, see the top of the file).
-render::SceneDescription withCosineSampling(render::SceneDescription d) {
-  for (render::SceneMaterial& m : d.materials) {
-    m.sampled = withSampler(SamplerChoice::Cosine, m.material, SamplerOptions{});
-    m.sampler = "cosine";
-  }
-  return d;
-}
-
-// The material each pixel's centre sees first (-1: nothing, or a shape without a material).
-std::vector<int> firstHitMaterials(const render::SceneDescription& d) {
-  const render::Scene scene(d);
-  const int w = d.camera.width, h = d.camera.height;
-  std::vector<int> out(std::size_t(w) * std::size_t(h), -1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      render::SurfaceHit hit;
-      if (scene.intersect(scene.camera().generateRay({float(x) + 0.5f, float(y) + 0.5f}), hit))
-        out[std::size_t(y) * std::size_t(w) + std::size_t(x)] = d.shapes[hit.shape].material;
-    }
-  return out;
-}
-
-// A render's error against the reference: relmse over the whole image, and over the pixels where
-// the material is seen first (the whole image's when it is seen nowhere). The budget applies to
-// the first by default: a material seen small contributes little to the image, which is what lets
-// it be modelled more cheaply. --measure seen applies it to the larger of the two, for a user who
-// wants every object right on its own pixels (a material filling a tenth of the frame can lose its
-// texture within an image-wide budget).
-struct RenderedError {
-  double image = 0, seen = 0;
-  double judged(bool seen_too) const { return seen_too ? std::max(image, seen) : image; }
-};
-
-RenderedError renderedError(const Image& test, const Image& reference, const std::vector<int>& first_hit, int material) {
-  RenderedError e;
-  e.image = render::compareImages(test, reference).relmse;
-  std::size_t n = 0;
-  for (const int m : first_hit) n += m == material;
-  if (n == 0) {
-    e.seen = e.image;
-    return e;
-  }
-  // The material's pixels as two one-row images, measured by the same comparison.
-  Image a(int(n), 1, test.channels), b(int(n), 1, reference.channels);
-  std::size_t k = 0;
-  for (std::size_t p = 0; p < first_hit.size(); ++p) {
-    if (first_hit[p] != material) continue;
-    for (int c = 0; c < test.channels; ++c) {
-      a.pixels[k * std::size_t(test.channels) + std::size_t(c)] = test.pixels[p * std::size_t(test.channels) + std::size_t(c)];
-      b.pixels[k * std::size_t(reference.channels) + std::size_t(c)] = reference.pixels[p * std::size_t(reference.channels) + std::size_t(c)];
-    }
-    ++k;
-  }
-  e.seen = render::compareImages(a, b).relmse;
-  return e;
-}
-
-struct MaterialResult {
-  std::string name, type;
-  std::vector<MaterialCandidate> candidates;
-  std::vector<double> relmse;  // per candidate: the error judged (NaN: not built)
-  std::vector<RenderedError> errors;
-  std::vector<Speed> speed;
-  int chosen = -1;             // index into candidates
-  std::string skipped;         // why the material was not reduced at all
-  // Sampler pass.
-  struct SamplerTry {
-    std::string name;
-    std::size_t bytes = 0;
-    double relmse = 0;  // the error judged
-    RenderedError error;
-  };
-  std::vector<SamplerTry> samplers;
-  int chosen_sampler = -1;
-  bool sampler_within_budget = false;
-};
-
 std::string resolveFrom(const fs::path& folder, const std::string& file) {
   const fs::path p(file);
   return (p.is_absolute() ? p : folder / p).lexically_normal().string();
@@ -213,51 +91,6 @@ void rebase(json& node, const char* key, const fs::path& from, const fs::path& t
   node[key] = fs::absolute(from / p).lexically_normal().lexically_relative(fs::absolute(to).lexically_normal()).string();
 }
 
-std::string fixed(double v, int digits) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*g", digits, v);
-  return text;
-}
-
-// A candidate's name on the chart: "ggx", "lafortune 2 lobes", "octree 0.03", "vq 0.1", "full".
-std::string shortLabel(const MaterialCandidate& c) {
-  std::string label = c.label;
-  for (const char* cut : {"fit ", " of the mean texel", " (81 x 81 directions)", "t=", "eps="}) {
-    const std::size_t at = label.find(cut);
-    if (at != std::string::npos) label.erase(at, std::string(cut).size());
-  }
-  return c.kind == "full" ? "full" : label;
-}
-
-tools::GnuplotOutcome drawChart(const fs::path& folder, const std::string& stem, const std::vector<MaterialResult>& results,
-                                double budget) {
-  std::ostringstream data, body;
-  int block = 0;
-  body << "set title " << tools::gnuplotQuote("btf fit-scene: bytes against rendered error per material (relmse 0 drawn at 1e-6)")
-       << "\nset logscale xy\nset xlabel 'bytes of the material'\nset ylabel 'rendered relmse against the reference'\n"
-       << "set key outside right top\nset grid\nset yrange [5e-7:*]\nset format xy '%.0e'\n";
-  std::string plots;
-  for (const MaterialResult& r : results) {
-    if (r.candidates.empty()) continue;
-    data << "$m" << block << " << EOD\n";
-    for (std::size_t k = 0; k < r.candidates.size(); ++k)
-      if (r.candidates[k].material)
-        data << r.candidates[k].bytes << ' ' << std::max(r.relmse[k], 1e-6) << ' ' << tools::gnuplotQuote(shortLabel(r.candidates[k]))
-             << '\n';
-    data << "EOD\n$c" << block << " << EOD\n";
-    if (r.chosen >= 0) data << r.candidates[std::size_t(r.chosen)].bytes << ' ' << std::max(r.relmse[std::size_t(r.chosen)], 1e-6) << '\n';
-    data << "EOD\n";
-    plots += std::string(plots.empty() ? "" : ", ") + "$m" + std::to_string(block) + " using 1:2 with points pt 7 ps 0.8 lc " +
-             std::to_string(block + 1) + " title " + tools::gnuplotQuote(r.name) + ", $m" + std::to_string(block) +
-             " using 1:2:3 with labels offset 0.6,0.6 left font ',8' tc lt " + std::to_string(block + 1) + " notitle, $c" + std::to_string(block) +
-             " using 1:2 with points pt 6 ps 2.2 lw 2 lc " + std::to_string(block + 1) + " title " +
-             tools::gnuplotQuote(r.name + " (chosen)");
-    ++block;
-  }
-  if (block == 0) return {};
-  body << "plot " << plots << ", " << budget << " with lines dt 2 lc 'black' title 'budget'\n";
-  return tools::drawGnuplotCharts(folder, stem + "-chart.gp", data.str(), {{stem + "-chart", body.str()}});
-}
 
 void runFitScene(const FitSceneOptions& o) {
   const fs::path scene_file(o.scene), output(o.output);
@@ -287,7 +120,7 @@ void runFitScene(const FitSceneOptions& o) {
   }
   const fs::path scene_dir = scene_file.parent_path().empty() ? fs::path(".") : scene_file.parent_path();
 
-  Renderer render;
+  SceneRenderer render;
   render.settings.max_depth = description.render.max_depth;
   render.settings.rr_min_depth = description.render.max_depth;  // no roulette: see the top of the file
   const int spp = o.spp.value_or(description.render.spp);
@@ -346,7 +179,7 @@ void runFitScene(const FitSceneOptions& o) {
     Progress progress("rendering " + r.name, r.candidates.size());
     for (const MaterialCandidate& c : r.candidates) {
       RenderedError e{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-      Speed speed;
+      FitSpeed speed;
       if (c.material) {
         speed = measureSpeed(*c.material);
         if (c.kind == "full") {
@@ -511,28 +344,8 @@ void runFitScene(const FitSceneOptions& o) {
   writeImage(out_dir / (stem + "-error.png"), render::errorHeatMap(lean_render.color, reference, 0.2));
 
   // Tables and the chart.
-  writeFileAtomically(out_dir / (stem + ".csv"), [&](std::ofstream& out) {
-    out << "material,type,candidate,kind,bytes,eval_per_s,samples_per_s,relmse_image,relmse_seen,chosen,note\n";
-    for (const MaterialResult& r : results)
-      for (std::size_t i = 0; i < r.candidates.size(); ++i) {
-        const MaterialCandidate& c = r.candidates[i];
-        std::string note = c.note;
-        std::replace(note.begin(), note.end(), ',', ';');
-        out << r.name << ',' << r.type << ',' << c.label << ',' << c.kind << ',' << c.bytes << ',' << r.speed[i].eval_per_s << ','
-            << r.speed[i].samples_per_s << ',' << (c.material ? fixed(r.errors[i].image, 6) : "") << ','
-            << (c.material ? fixed(r.errors[i].seen, 6) : "") << ',' << (int(i) == r.chosen) << ','
-            << note << '\n';
-      }
-  });
-  writeFileAtomically(out_dir / (stem + "-samplers.csv"), [&](std::ofstream& out) {
-    out << "material,sampler,bytes,relmse_noise_image,relmse_noise_seen,chosen,within_budget\n";
-    for (const MaterialResult& r : results)
-      for (std::size_t i = 0; i < r.samplers.size(); ++i)
-        out << r.name << ',' << r.samplers[i].name << ',' << r.samplers[i].bytes << ',' << fixed(r.samplers[i].error.image, 6) << ','
-            << fixed(r.samplers[i].error.seen, 6) << ','
-            << (int(i) == r.chosen_sampler) << ',' << r.sampler_within_budget << '\n';
-  });
-  const tools::GnuplotOutcome chart = drawChart(out_dir, stem, results, o.budget);
+  writeFitSceneTables(out_dir, stem, results);
+  const tools::GnuplotOutcome chart = drawFitSceneChart(out_dir, stem, results, o.budget);
 
   std::printf("\n");
   std::vector<std::string> kept_full;
