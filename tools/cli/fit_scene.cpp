@@ -5,22 +5,22 @@
 // Representations (fit_scene_candidates.h): analytic fits, octree tables, VQ forms, the full
 // material. Each is rendered in place of the material, and its error is the relmse
 // (render/image_metrics.h) of that image against the reference, over the whole image (or with
-// --measure seen, also over the pixels where the material is seen first; see RenderedError). Both renders use common random
-// numbers: every material is sampled by the cosine warp, whose directions do not depend on f,
-// and Russian roulette is off, so the same pixel sample follows the same path in both and the
-// images differ by f alone, not by the noise of two renders. Comparing two independent noisy renders would
-// put their noise into every candidate's error. The candidates are ranked by bytes, and the first
-// one within the budget is kept. The full material renders the reference exactly (relmse 0), so
-// a material always has a choice; a material that keeps it "could not be reduced".
+// --measure seen, also over the pixels where the material is seen first; see RenderedError).
+// Both renders use common random numbers: every material is sampled by the cosine warp, whose
+// directions do not depend on f, and Russian roulette is off, so the same pixel sample follows the
+// same path in both and the images differ by f alone. Comparing two independent noisy renders
+// would put their noise into every candidate's error. The candidates are ranked by bytes, and the
+// first one within the budget is kept. The full material renders the reference exactly (relmse
+// 0), so a material always has a choice; a material that keeps it "could not be reduced".
 //
 // Samplers: with the chosen representations in place, each reduced material tries cosine, its own
 // sample() (an analytic fit's importance sampler), for octree tables the sampler of the tree's
 // node bounds, DP-CDF (at epsilon 1e-3: a scene names its sampler, not the sampler's options) and
-// the tabulated sampler (BTFs: the first two). The others keep the scene's samplers. The error is now noise:
-// the relmse at the scene's spp (another seed) against a render at --reference-spp-factor times
-// the spp. Of the samplers within the budget, the one with the fewest bytes is kept, and of equal
-// bytes (the warps and a material's own sampler hold none) the least noisy; if none is within the
-// budget, the least noisy is kept and the output says so.
+// the tabulated sampler (BTFs: the first two). The others keep the scene's samplers. The error is
+// now noise: the relmse at the scene's spp (another seed) against a render at
+// --reference-spp-factor times the spp. Of the samplers within the budget, the one with the fewest
+// bytes is kept, and of equal bytes (the warps and a material's own sampler hold none) the least
+// noisy; if none is within the budget, the least noisy is kept and the output says so.
 //
 // Outputs: the lean scene (paths relative to its folder), the chosen material files in
 // <stem>-materials/, <stem>.csv (every candidate: bytes, eval/s, samples/s, rendered relmse),
@@ -47,8 +47,6 @@
 #include "btf/render/integrator.h"
 #include "btf/render/render_output.h"
 #include "btf/render/scene_loader.h"
-#include "btf/sampling/binned_sampler.h"
-#include "btf/sampling/octree_bound_sampler.h"
 #include "btf/sampling/sampler_choice.h"
 #include "comma_list.h"
 #include "commands.h"
@@ -231,9 +229,8 @@ void runFitScene(const FitSceneOptions& o) {
     // The scene's sampler where it applies to the new form (a tabulated sampler does to any BRDF);
     // a VQ form is a BTF, which takes only its own sampler and the warps.
     const auto choice = parseSamplerChoice(m.sampler);
-    const bool tabulating = choice && (*choice == SamplerChoice::Tabulated || *choice == SamplerChoice::DpCdf ||
-                                       *choice == SamplerChoice::Quadtree || *choice == SamplerChoice::OctreeBound);
-    const bool keep = choice && !(c.kind == "vq" && tabulating) && !(*choice == SamplerChoice::OctreeBound && c.kind != "octree");
+    const bool keep = choice && !(c.kind == "vq" && tabulatesOneBrdf(*choice)) &&
+                      !(*choice == SamplerChoice::OctreeBound && c.kind != "octree");
     if (!keep) m.sampler = "material";
     m.sampled = withSampler(*parseSamplerChoice(m.sampler), m.material, SamplerOptions{});
   }
@@ -258,8 +255,7 @@ void runFitScene(const FitSceneOptions& o) {
         t.name = name;
         render::SceneDescription d = lean;
         d.materials[k].sampled = withSampler(*parseSamplerChoice(name), d.materials[k].material, SamplerOptions{});
-        if (const auto* binned = dynamic_cast<const BinnedSampler*>(d.materials[k].sampled.get())) t.bytes = binned->stats().bytes;
-        if (const auto* bound = dynamic_cast<const OctreeBoundSampler*>(d.materials[k].sampled.get())) t.bytes = bound->bytes();
+        t.bytes = samplerTableBytes(*d.materials[k].sampled);
         d.materials[k].sampler = name;
         t.error = renderedError(render(std::move(d), spp, o.seed + 2), converged, first_hit, int(k));
         t.relmse = t.error.judged(o.measure == "seen");
@@ -327,15 +323,7 @@ void runFitScene(const FitSceneOptions& o) {
   writeFileAtomically(output, [&](std::ofstream& out) { out << lean_json.dump(2) << "\n"; });
 
   // The lean scene as a whole, against the reference (common random numbers again).
-  const render::SceneDescription lean_cosine = withCosineSampling(lean);
-  render::RenderResult lean_render;
-  {
-    render::RenderSettings s = render.settings;
-    s.spp = spp;
-    s.seed = o.seed;
-    const render::Scene scene(lean_cosine);
-    lean_render = render.integrator->render(scene, s);
-  }
+  const render::RenderResult lean_render = render.result(withCosineSampling(lean), spp, o.seed);
   const render::ImageComparison whole = render::compareImages(lean_render.color, reference);
   render::RenderResult reference_result;
   reference_result.color = reference;

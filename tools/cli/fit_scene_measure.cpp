@@ -34,12 +34,12 @@ FitSpeed measureSpeed(const Material& m) {
   return {eval_s > 0 ? double(wi.size()) / eval_s : 0.0, sample_s > 0 ? double(wi.size()) / sample_s : 0.0};
 }
 
-Image SceneRenderer::operator()(render::SceneDescription d, int spp, std::uint64_t seed) const {
+render::RenderResult SceneRenderer::result(render::SceneDescription d, int spp, std::uint64_t seed) const {
   render::RenderSettings s = settings;
   s.spp = spp;
   s.seed = seed;
   const render::Scene scene(std::move(d));
-  return integrator->render(scene, s).color;
+  return integrator->render(scene, s);
 }
 
 render::SceneDescription withCosineSampling(render::SceneDescription d) {

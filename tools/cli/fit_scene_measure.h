@@ -21,11 +21,13 @@ struct FitSpeed {
 // direction pairs (a report, not a benchmark: btf_bench has those).
 FitSpeed measureSpeed(const Material& m);
 
-// The path tracer with fixed settings, rendering a scene description at a spp and seed.
+// The path tracer with fixed settings, rendering a scene description at a spp and seed: the
+// whole result, or its image.
 struct SceneRenderer {
   render::RenderSettings settings;
   std::unique_ptr<render::Integrator> integrator = render::makePathTracer();
-  Image operator()(render::SceneDescription d, int spp, std::uint64_t seed) const;
+  render::RenderResult result(render::SceneDescription d, int spp, std::uint64_t seed) const;
+  Image operator()(render::SceneDescription d, int spp, std::uint64_t seed) const { return result(std::move(d), spp, seed).color; }
 };
 
 // Every material sampled by the cosine warp, whose directions do not depend on f (common random

@@ -300,9 +300,7 @@ SceneMaterial loadMaterial(const std::string& name, const Node& m, const Materia
     if (m.has("sampler")) m["sampler"].fail(problem);
     m.fail(problem);
   }
-  const bool tabulated = *choice == SamplerChoice::Tabulated || *choice == SamplerChoice::DpCdf ||
-                         *choice == SamplerChoice::Quadtree || *choice == SamplerChoice::OctreeBound;
-  if (type == "btf" && tabulated) {
+  if (type == "btf" && tabulatesOneBrdf(*choice)) {
     // A BTF changes over the surface; the tabulated samplers hold one table per material.
     if (context.options.sampler_override.empty())
       m["sampler"].fail("sampler '" + out.sampler + "' tabulates one BRDF, but a BTF varies over the surface: use material, cosine or uniform");

@@ -110,14 +110,14 @@ OctreeBoundSampler::OctreeBoundSampler(std::shared_ptr<const OctreeBrdf> materia
   cos_phi_range_.assign(std::size_t(theta_o_bins_) * kSlabs, 0.0f);
   cdf_.assign(std::size_t(theta_o_bins_) * (kSlabs + 1), 0.0f);
   norm_.assign(std::size_t(theta_o_bins_), 0.0f);
-  // Bins are independent and each writes only its own rows: the tables do not depend on the
-  // thread count.
   // The f bound of each (theta_h slab, theta_d slab) over all phi_d: a quick test that skips the
   // phi_d-restricted queries of buildBin when they could not raise a bound.
   std::vector<double> slab_max(std::size_t(kSlabs) * kNd);
   tbb::parallel_for(0, kSlabs, [&](int i) {
     for (int j = 0; j < kNd; ++j) slab_max[std::size_t(i) * kNd + std::size_t(j)] = octreeMaxOverSlab(octree, i, j);
   });
+  // Bins are independent and each writes only its own rows: the tables do not depend on the
+  // thread count.
   tbb::parallel_for(0, theta_o_bins_, [&](int b) { buildBin(octree, slab_max, b); });
   if (std::all_of(norm_.begin(), norm_.end(), [](float n) { return n == 0.0f; }))
     throw Error("OctreeBoundSampler: the table has no measured cell with f > 0 (" + material_->name() + ")");

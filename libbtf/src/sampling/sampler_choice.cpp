@@ -89,6 +89,17 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
   throw Error("unknown sampler choice");
 }
 
+bool tabulatesOneBrdf(SamplerChoice choice) {
+  return choice == SamplerChoice::Tabulated || choice == SamplerChoice::DpCdf || choice == SamplerChoice::Quadtree ||
+         choice == SamplerChoice::OctreeBound;
+}
+
+std::size_t samplerTableBytes(const Material& sampled) {
+  if (const auto* binned = dynamic_cast<const BinnedSampler*>(&sampled)) return binned->stats().bytes;
+  if (const auto* octree = dynamic_cast<const OctreeBoundSampler*>(&sampled)) return octree->bytes();
+  return 0;
+}
+
 std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3& wo, glm::vec2 u, float& pdf) {
   if (const auto* warp = dynamic_cast<const WarpSampled*>(&sampled)) return warp->draw(u, pdf);
   if (const auto* binned = dynamic_cast<const BinnedSampler*>(&sampled)) {

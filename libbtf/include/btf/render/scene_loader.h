@@ -30,8 +30,8 @@
 // Materials: lambert (albedo), phong (diffuse, specular, exponent), ggx (diffuse, f0, alpha or
 // [alpha_x, alpha_y]), ward (diffuse, specular, alpha or [ax, ay]), lafortune (diffuse, lobes:
 // [{rho, c, exponent}]), merl (.binary, lookup), rgl (.bsdf), merl-fit (name, model, fits_dir),
-// fitted (a `btf fit` file), octree (.octree, lookup), btf (a .btfz file or an image folder; mapping uv | planar | box, uv_scale, axis for planar,
-// filter bilinear | nearest). Each takes "sampler": material | cosine | uniform | tabulated |
+// fitted (a `btf fit` file), octree (.octree, lookup), btf (a .btfz file or an image folder;
+// mapping uv | planar | box, uv_scale, axis for planar, filter bilinear | nearest). Each takes "sampler": material | cosine | uniform | tabulated |
 // dp-cdf | quadtree, and an octree also octree-bound (a BTF varies over the surface, so only its
 // own sampler and the warps apply).
 // Shapes: meshes from OBJ (with .mtl: "material": "mtl" gives every part a Lambert of its Kd and an

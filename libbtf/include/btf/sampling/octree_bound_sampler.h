@@ -1,5 +1,6 @@
 // Importance sampling of an octree table (compress/octree_table.h) from the bounds its nodes store,
-// and the rejection sampler those bounds make possible: no tabulation per wo, a few tens of KB.
+// and the rejection sampler those bounds make possible: no tabulation per wo, a few float tables
+// per theta_o bin and theta_h slab (bytes()).
 //
 // Domain. The sampler draws the half vector h and reflects wo about it (wi = 2 (wo.h) h - wo,
 // d omega_i = 4 (wo.h) d omega_h), because the table's own coordinates are theta_h, theta_d and
@@ -21,8 +22,8 @@
 // over the part of each slab whose azimuth about wo's lies within the range that can reflect a wo
 // of the bin above the horizon (a closed form per bin and slab, widened a little), Z = sum over
 // slabs of B * (solid angle of that part): a slab by a 91-entry CDF, cos(theta_h) uniform within
-// it, the azimuth uniform within the range. pdf(wi) = q(h) / (4 wo.h), exact
-// and computed by one code path for sample() and pdf(). A reflection below the horizon is no
+// it, the azimuth uniform within the range. pdf(wi) = q(h) / (4 wo.h), exact and computed by one
+// code path for sample() and pdf(). A reflection below the horizon is no
 // sample (its mass is where f cos is 0). The weight f cos / pdf = 4 f cos(theta_i) cos(theta_d) Z
 // / B is at most 4 Z in every channel (B bounds every channel): no fireflies, whatever the table.
 //

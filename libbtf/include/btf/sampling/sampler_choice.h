@@ -30,6 +30,14 @@ std::string samplerChoiceNames();
 std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_ptr<const Material> material,
                                             const SamplerOptions& options);
 
+// The samplers that tabulate one BRDF (the binned samplers and octree-bound): a BTF, which varies
+// over the surface, takes none of them.
+bool tabulatesOneBrdf(SamplerChoice choice);
+
+// Bytes of the tables a sampled material holds beside its material (0 for the warps and a
+// material's own sampler).
+std::size_t samplerTableBytes(const Material& sampled);
+
 // One draw of a direction with its pdf and nothing else where the sampler allows it (warps and the
 // tabulated samplers); a material's own sampler can only be called through sample(), which also
 // evaluates the weight. What "samples_per_s" times. Nothing when the draw returns no direction.
