@@ -1,11 +1,12 @@
 // Samples per second (sample + pdf of the drawn direction, as a renderer doing MIS calls them) of
 // the RGL warp sampler (luminance warp, then VNDF warp; Dupuy & Jakob 2018) per shared RGL file,
-// next to evaluations per second. Single thread. Views are drawn before timing, cosine-weighted
+// next to evaluations per second, one at a time and through evalMany. Single thread. Views are drawn before timing, cosine-weighted
 // over the hemisphere, so each figure averages over incidences.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -85,8 +86,43 @@ void BM_RglEval(benchmark::State& state) {
   state.counters["evals_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
+// A stream's weights: 256 wi at one wo (a block of draws), one eval at a time against one
+// evalMany per block, side by side; wo changes per block, so each block pays wo's set-up once.
+constexpr std::size_t kBlock = 256;
+
+// Runs evalBlock(wo, wi, out) on blocks of kBlock wi at one wo, a new block and wo each iteration.
+template <typename EvalBlock>
+void evalBlocks(benchmark::State& state, const EvalBlock& evalBlock) {
+  const auto material = load(state);
+  if (!material) return;
+  const std::vector<glm::vec3> wi = directions(3), wo = directions(4);
+  std::vector<btf::Rgb> out(kBlock);
+  std::size_t block = 0;
+  for (auto _ : state) {
+    const std::span<const glm::vec3> wis(wi.data() + (block * kBlock) % kDirections, kBlock);
+    evalBlock(*material, wo[block % kDirections], wis, std::span<btf::Rgb>(out));
+    benchmark::DoNotOptimize(out.data());
+    ++block;
+  }
+  state.counters["evals_per_s"] = benchmark::Counter(double(state.iterations() * kBlock), benchmark::Counter::kIsRate);
+}
+
+void BM_RglEvalBlockOneByOne(benchmark::State& state) {
+  evalBlocks(state, [](const btf::RglBrdf& m, const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<btf::Rgb> out) {
+    for (std::size_t k = 0; k < wi.size(); ++k) out[k] = m.eval(wi[k], wo);
+  });
+}
+
+void BM_RglEvalBlockMany(benchmark::State& state) {
+  evalBlocks(state, [](const btf::RglBrdf& m, const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<btf::Rgb> out) {
+    m.evalMany(wo, wi, out);
+  });
+}
+
 }  // namespace
 
+BENCHMARK(BM_RglEvalBlockOneByOne)->DenseRange(0, 2);
+BENCHMARK(BM_RglEvalBlockMany)->DenseRange(0, 2);
 BENCHMARK(BM_RglSampleAndPdf)->DenseRange(0, 2);
 BENCHMARK(BM_RglSampleOnly)->DenseRange(0, 2);
 BENCHMARK(BM_RglEval)->DenseRange(0, 2);

@@ -118,7 +118,8 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
                                             "rel_error_vs_reference", "per_sample_variance", "full_cdf_bytes",
                                             "acceptance_rate", "stream_samples_per_s", "theta_o_deg",
                                             "parameterization", "fcos_rel_variance", "efficiency_vs_own",
-                                            "stream_efficiency_vs_own", "stream_with_eval_per_s"};
+                                            "stream_efficiency_vs_own", "stream_with_eval_per_s",
+                                            "ceiling_vs_own", "stream_ceiling_vs_own"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler, per_view;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -152,6 +153,11 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
     EXPECT_GT(std::stod(rows[i][18]), 0.0) << "efficiency_vs_own of " << sampler;
     if (sampler == "material") {
       EXPECT_DOUBLE_EQ(std::stod(rows[i][18]), 1.0);
+      // The ceilings belong to the own sampler's rows alone.
+      EXPECT_GT(std::stod(rows[i][21]), 0.0) << "ceiling_vs_own";
+      EXPECT_GT(std::stod(rows[i][22]), 0.0) << "stream_ceiling_vs_own";
+    } else {
+      EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty()) << "ceilings of " << sampler;
     }
     EXPECT_GE(std::stod(rows[i][17]), 0.0) << "fcos_rel_variance of " << sampler;
     ++per_view[rows[i][15]];

@@ -149,6 +149,11 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
   row.efficiency = e.efficiency();
   row.fcos_rel_variance = fcosRelativeVariance(sampled, wo, sizes.estimate_draws, seed);
   row.rel_error_vs_reference = reference > 0 ? std::abs(e.mean - reference) / reference : std::abs(e.mean);
+  if (setting.choice == SamplerChoice::Own) {
+    const EfficiencyCeiling ceiling = efficiencyCeiling(sampled, wo, sizes.estimate_draws, seed, kTimingRepeats);
+    row.ceiling_vs_own = ceiling.single();
+    row.stream_ceiling_vs_own = ceiling.stream();
+  }
   return row;
 }
 

@@ -133,6 +133,8 @@ double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo,
   const std::vector<glm::vec3> wos(kBlock, wo);
   std::vector<glm::vec2> u(kBlock);
   std::vector<BinnedSampler::DirectionSample> out(kBlock);
+  std::vector<glm::vec3> wi(kBlock);
+  std::vector<Rgb> f(kBlock);
   volatile float sink = 0;
   float acc = 0;
   double seconds = 0;
@@ -140,15 +142,69 @@ double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo,
     for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
     const auto start = Clock::now();
     sampler.sampleDirections(wos, u, out);
-    if (with_eval)
-      for (const BinnedSampler::DirectionSample& d : out)
-        if (d.pdf > 0) acc += sampler.material().eval(d.wi, wo).luminance();
+    if (with_eval) {
+      // The weights' evals as a renderer's stream would make them: one evalMany per block at its
+      // wo (a lost draw, wi = 0, evaluates to 0).
+      for (std::size_t k = 0; k < kBlock; ++k) wi[k] = out[k].wi;
+      sampler.material().evalMany(wo, wi, f);
+      for (const Rgb& v : f) acc += v.luminance();
+    }
     seconds += secondsSince(start);
     acc += out[done / kBlock % kBlock].pdf;
   }
   sink = acc;
   (void)sink;
   return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
+}
+
+EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& wo, std::uint64_t count,
+                                    std::uint64_t seed, int timing_repeats) {
+  // The own draws, and the moments both variances need.
+  Rng rng(seed, 1);
+  std::vector<glm::vec3> wi(count, glm::vec3(0.0f));
+  std::vector<float> pdf(count, 0.0f);
+  double sum_w = 0, sum_we = 0, sum_we2 = 0, sum_term_sq = 0;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const auto s = material.sample(wo, {}, rng.uniform2D());
+    if (!s) continue;
+    wi[i] = s->wi;
+    pdf[i] = s->pdf;
+    const double w = s->weight.luminance(), e = environmentRadiance(s->wi);
+    sum_w += w;
+    sum_we += w * e;
+    sum_we2 += w * e * e;
+    sum_term_sq += (w * e) * (w * e);
+  }
+  const double n = double(count), albedo = sum_w / n, mean = sum_we / n;
+  const double own_variance = sum_term_sq / n - mean * mean;
+  const double proportional_variance = albedo * sum_we2 / n - mean * mean;
+
+  EfficiencyCeiling c;
+  c.variance_ratio = proportional_variance > 0 ? own_variance / proportional_variance : 0.0;
+  c.own_seconds = c.eval_env_seconds = c.eval_many_seconds = 1e300;
+  volatile double sink = 0;
+  constexpr std::size_t kBlock = 256;
+  std::vector<Rgb> f(kBlock);
+  for (int r = 0; r < timing_repeats; ++r) {
+    c.own_seconds = std::min(c.own_seconds, estimateReflectedRadiance(material, wo, count, seed).seconds);
+    double acc = 0;
+    auto start = Clock::now();
+    for (std::uint64_t i = 0; i < count; ++i) {
+      if (!(pdf[i] > 0.0f)) continue;
+      acc += double(material.eval(wi[i], wo).luminance() * wi[i].z / pdf[i]) * double(environmentRadiance(wi[i]));
+    }
+    c.eval_env_seconds = std::min(c.eval_env_seconds, secondsSince(start));
+    start = Clock::now();
+    for (std::uint64_t i = 0; i < count; i += kBlock) {
+      const std::size_t m = std::min<std::uint64_t>(kBlock, count - i);
+      material.evalMany(wo, std::span<const glm::vec3>(wi.data() + i, m), std::span<Rgb>(f.data(), m));
+      acc += f[0].g;
+    }
+    c.eval_many_seconds = std::min(c.eval_many_seconds, secondsSince(start));
+    sink = acc;
+  }
+  (void)sink;
+  return c;
 }
 
 }  // namespace btf::cli

@@ -51,9 +51,30 @@ double fcosRelativeVariance(const Material& sampled, const glm::vec3& wo, std::u
 // drawDirection per second on one thread over `count` draws.
 double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed);
 // The same draws through the stream call (BinnedSampler::sampleDirections, blocks of 256). With
-// with_eval, each block's drawn directions are then evaluated (the wrapped material's eval, which
+// with_eval, each block's drawn directions are then evaluated (the wrapped material's evalMany, which
 // a renderer needs for the weight f cos / pdf) inside the timed part.
 double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
                               std::uint64_t seed, bool with_eval = false);
+
+// What no BSDF sampler of a material can beat, relative to the material's own sampler, measured
+// on `count` of the own sampler's draws (stream `seed`, as estimateReflectedRadiance). An unbiased
+// estimate from a sampler that is not exactly proportional to f cos needs f at each drawn wi for
+// the weight f cos / pdf, so each draw costs at least the material's eval (plus the environment in
+// the single-query estimate; the stream measure leaves the environment out); and no sampler's
+// variance falls below that of one exactly proportional to lum(f) cos, whose term is the albedo A
+// times E(wi). Its per-sample variance follows from the own draws by importance weighting with
+// their weights w = lum(f) cos / pdf: E[(A E)^2] = A E_own[w E^2], so it is A mean(w E^2) - L^2.
+// The ceilings multiply the two: a sampler with zero cost beyond the eval and the variance of an
+// exactly proportional one would have these efficiencies relative to the own sampler.
+struct EfficiencyCeiling {
+  double own_seconds = 0;         // the own estimate, best of the repeats
+  double eval_env_seconds = 0;    // eval, the weight and the environment at the own draws
+  double eval_many_seconds = 0;   // evalMany alone at the own draws, in blocks of 256
+  double variance_ratio = 0;      // own per-sample variance / an exactly proportional sampler's
+  double single() const { return own_seconds / eval_env_seconds * variance_ratio; }
+  double stream() const { return own_seconds / eval_many_seconds * variance_ratio; }
+};
+EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& wo, std::uint64_t count,
+                                    std::uint64_t seed, int timing_repeats);
 
 }  // namespace btf::cli

@@ -16,7 +16,8 @@ const std::vector<std::string>& samplingCsvColumns() {
                                                    "per_sample_variance", "full_cdf_bytes", "acceptance_rate",
                                                    "stream_samples_per_s", "theta_o_deg", "parameterization",
                                                    "fcos_rel_variance", "efficiency_vs_own",
-                                                   "stream_efficiency_vs_own", "stream_with_eval_per_s"};
+                                                   "stream_efficiency_vs_own", "stream_with_eval_per_s",
+                                                   "ceiling_vs_own", "stream_ceiling_vs_own"};
   return columns;
 }
 
@@ -53,6 +54,10 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       optional(r.stream_efficiency_vs_own);
       out << ',';
       optional(r.stream_with_eval_per_s);
+      out << ',';
+      optional(r.ceiling_vs_own);
+      out << ',';
+      optional(r.stream_ceiling_vs_own);
       out << '\n';
     }
   });

@@ -41,6 +41,8 @@ struct SamplingRow {
   std::string parameterization;
   double fcos_rel_variance = 0;
   std::optional<double> efficiency_vs_own, stream_efficiency_vs_own;
+  // The own sampler's row only: what no sampler can beat relative to it (EfficiencyCeiling).
+  std::optional<double> ceiling_vs_own, stream_ceiling_vs_own;
   // material, theta_o and parameterization: the rows the summaries compare with each other.
   std::string group() const;
 };

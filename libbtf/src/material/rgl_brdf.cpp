@@ -112,56 +112,80 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
   rgb_ = build("rgb", rgb, dim(rgb, 4), dim(rgb, 3), {theta_o_, {0.0f, 1.0f, 2.0f}}, Mode::Interpolant);
 }
 
-Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, float theta_o) const {
+RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
+  const float theta_o = sphericalTheta(wo);
+  const float params[1] = {theta_o};
+  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(std::atan2(wo.y, wo.x)));
+  return {theta_o, std::atan2(wo.y, wo.x), u_o, vndf_.fixed(params), rgb_.fixedLeading(params),
+          jacobian_ ? sigma_.eval(u_o) : 1.0f};
+}
+
+BilinearWarp2D::Fixed RglBrdf::luminanceAt(const Outgoing& o) const {
+  const float params[1] = {o.theta_o};
+  return luminance_.fixed(params);
+}
+
+Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, const Outgoing& o) const {
   float channels[3];
-  const float leading[1] = {theta_o};
-  rgb_.evalAtEveryLastValue(s, leading, channels);
+  o.rgb.evalAtEveryLastValue(s, channels);
   Rgb f;
   // Negative values are spectral data outside the RGB gamut; the reference loader clips them.
   for (int c = 0; c < 3; ++c) f[c] = std::max(channels[c], 0.0f);
-  if (jacobian_) f *= ndf_.eval(u_m) / (4.0f * sigma_.eval(u_o));
+  if (jacobian_) f *= ndf_.eval(u_m) / (4.0f * o.sigma);
   return f;
 }
 
-RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, bool with_pdf) const {
+RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
+                                     const BilinearWarp2D::Fixed* luminance) const {
   InverseMap r;
   const glm::vec3 m = glm::normalize(wi + wo);
-  r.theta_o = sphericalTheta(wo);
-  const float phi_o = std::atan2(wo.y, wo.x);
-  r.u_o = glm::vec2(thetaToUnit(r.theta_o), phiToUnit(phi_o));
   // At the pole of m (u_m.x = 0, the mirror direction) the files' VNDF density over the square is
   // 0, so the mirror direction that a draw with u.x = 0 lands on would get pdf 0 and be dropped.
   // The warps are evaluated at u_m.x >= 1e-4 instead (theta_m >= 1.6e-8 rad, where they hold
   // ~1e-8 of their mass): the pdf stays positive and continuous up to the pole.
   constexpr float kPoleGuard = 1e-4f;
-  r.u_m = glm::vec2(std::max(thetaToUnit(sphericalTheta(m)), kPoleGuard), phiToUnit(std::atan2(m.y, m.x) - phi_o));
-  const float params[1] = {r.theta_o};
-  if (!with_pdf) {
-    r.s = vndf_.invert(r.u_m, params).p;
+  r.u_m = glm::vec2(std::max(thetaToUnit(sphericalTheta(m)), kPoleGuard), phiToUnit(std::atan2(m.y, m.x) - o.phi_o));
+  if (!luminance) {
+    r.s = o.vndf.invert(r.u_m).p;
     return r;
   }
-  const auto [s, vndf_pdf] = vndf_.invert(r.u_m, params);
+  const auto [s, vndf_pdf] = o.vndf.invert(r.u_m);
   r.s = s;
   const float jacobian = unitToSolidAngleJacobian(r.u_m.x, std::hypot(m.x, m.y)) * 4.0f * glm::dot(wo, m);
-  const float pdf = jacobian > 0.0f ? vndf_pdf * luminance_.eval(s, params) / jacobian : 0.0f;
+  const float pdf = jacobian > 0.0f ? vndf_pdf * luminance->eval(s) / jacobian : 0.0f;
   r.pdf = std::isfinite(pdf) ? pdf : 0.0f;
   return r;
 }
 
+Rgb RglBrdf::evalWith(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o) const {
+  if (wi.z <= 0.0f) return {};
+  const InverseMap r = mapBack(wi, wo, o, nullptr);
+  // The tables hold f cos(theta_i) (what a renderer multiplies by anyway); f itself divides it out.
+  return reflectanceTimesCos(r.s, r.u_m, o) / wi.z;
+}
+
 Rgb RglBrdf::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (wi.z <= 0.0f || wo.z <= 0.0f) return {};
-  const InverseMap r = mapBack(wi, wo, false);
-  // The tables hold f cos(theta_i) (what a renderer multiplies by anyway); f itself divides it out.
-  return reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / wi.z;
+  return evalWith(wi, wo, outgoing(wo));
+}
+
+void RglBrdf::evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out, glm::vec2) const {
+  checkEvalManySizes(wi, out);
+  if (wo.z <= 0.0f) {
+    std::fill(out.begin(), out.end(), Rgb{});
+    return;
+  }
+  const Outgoing o = outgoing(wo);
+  for (std::size_t k = 0; k < wi.size(); ++k) out[k] = evalWith(wi[k], wo, o);
 }
 
 std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
   if (wo.z <= 0.0f) return std::nullopt;
-  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
-  const float params[1] = {theta_o};
-  const glm::vec2 s = luminance_.sample(u, params).p;
-  const glm::vec2 u_m = vndf_.sample(s, params).p;
-  const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + phi_o);
+  const Outgoing o = outgoing(wo);
+  const BilinearWarp2D::Fixed luminance = luminanceAt(o);
+  const glm::vec2 s = luminance.sample(u).p;
+  const glm::vec2 u_m = o.vndf.sample(s).p;
+  const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + o.phi_o);
   const float wo_dot_m = glm::dot(wo, m);
   if (wo_dot_m <= 0.0f) return std::nullopt;  // back-facing m: interpolation leaked past the horizon
   const glm::vec3 wi = 2.0f * wo_dot_m * m - wo;
@@ -170,9 +194,9 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
   // them, so that sample().pdf == pdf(wi, wo) exactly. The forward path's own density differs from
   // it by float round-off, except near the pole, where m's few significant bits after the
   // reflection made the two disagree by up to 1e7x (|u| < 1e-5 at grazing wo).
-  const InverseMap r = mapBack(wi, wo, true);
+  const InverseMap r = mapBack(wi, wo, o, &luminance);
   if (!(r.pdf > 0.0f)) return std::nullopt;  // the edge of the support
-  const Rgb weight = reflectanceTimesCos(r.s, r.u_m, r.u_o, r.theta_o) / r.pdf;
+  const Rgb weight = reflectanceTimesCos(r.s, r.u_m, o) / r.pdf;
   // A weight beyond the float range means the file's values and the luminance its warp was built
   // from disagree by dozens of orders of magnitude (a damaged or forged file; a fuzzed one had f
   // 8e10 where the warp's density was 2e-32). Such a draw would poison any estimator, so it is
@@ -183,7 +207,9 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
 
 float RglBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (wi.z <= 0.0f || wo.z <= 0.0f) return 0.0f;
-  return mapBack(wi, wo, true).pdf;
+  const Outgoing o = outgoing(wo);
+  const BilinearWarp2D::Fixed luminance = luminanceAt(o);
+  return mapBack(wi, wo, o, &luminance).pdf;
 }
 
 std::string RglBrdf::name() const { return "rgl(" + stem_ + ")"; }

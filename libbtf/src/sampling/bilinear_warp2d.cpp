@@ -33,6 +33,18 @@ float solveLinearCdf(float d0, float d1, float mass) {
 
 float lerp(float a, float b, float t) { return (1.0f - t) * a + t * b; }
 
+// The cell of a width x height node grid that p falls in (its lower-left node) and p's position
+// within it, for p in [0,1]^2; p = 1 lies in the last cell at t = 1.
+struct GridCell {
+  int col, row;
+  float tx, ty;
+};
+GridCell cellOf(glm::vec2 p, int width, int height) {
+  const int col = std::min(static_cast<int>(p.x * (width - 1)), width - 2);
+  const int row = std::min(static_cast<int>(p.y * (height - 1)), height - 2);
+  return {col, row, p.x * (width - 1) - col, p.y * (height - 1) - row};
+}
+
 }  // namespace
 
 BilinearWarp2D::BilinearWarp2D(int width, int height, std::span<const float> data,
@@ -138,95 +150,115 @@ float BilinearWarp2D::blended(const std::vector<float>& values, std::size_t stri
   return sum;
 }
 
-BilinearWarp2D::Point BilinearWarp2D::sample(glm::vec2 u, std::span<const float> params) const {
-  if (mode_ != Mode::Distribution) throw Error("bilinear warp: sample() needs a distribution");
-  u = glm::clamp(u, 0.0f, 1.0f);
-  const SliceBlend blend = blendFor(params);
-  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
-  const float dx = 1.0f / (width_ - 1), dy = 1.0f / (height_ - 1);
+BilinearWarp2D::Fixed BilinearWarp2D::fixed(std::span<const float> params) const { return {*this, blendFor(params)}; }
 
-  // Row: the marginal density in y is linear within a row of cells, from r0 to r1 (row integrals).
-  const int row = findInterval(height_, [&](int y) { return blended(marginal_cdf_, height_, y, blend) < u.y; });
-  const std::size_t row0 = static_cast<std::size_t>(row) * width_, row1 = row0 + width_;
-  const float r0 = blended(row_cdf_, slice_size, row0 + width_ - 1, blend);
-  const float r1 = blended(row_cdf_, slice_size, row1 + width_ - 1, blend);
-  const float ty = solveLinearCdf(r0, r1, (u.y - blended(marginal_cdf_, height_, row, blend)) / dy);
-
-  // Column: the conditional CDF at this y blends the two rows' CDFs; its total is the marginal
-  // density lerp(r0, r1, ty), so u.x scaled by it is the mass to reach.
-  const float target = u.x * lerp(r0, r1, ty);
-  auto cdf_at = [&](int x) {
-    return lerp(blended(row_cdf_, slice_size, row0 + x, blend), blended(row_cdf_, slice_size, row1 + x, blend), ty);
-  };
-  const int col = findInterval(width_, [&](int x) { return cdf_at(x) < target; });
-  const float c0 = lerp(blended(values_, slice_size, row0 + col, blend), blended(values_, slice_size, row1 + col, blend), ty);
-  const float c1 = lerp(blended(values_, slice_size, row0 + col + 1, blend),
-                        blended(values_, slice_size, row1 + col + 1, blend), ty);
-  const float tx = solveLinearCdf(c0, c1, (target - cdf_at(col)) / dx);
-
-  return {{std::min((col + tx) * dx, 1.0f), std::min((row + ty) * dy, 1.0f)}, lerp(c0, c1, tx)};
-}
-
-BilinearWarp2D::Point BilinearWarp2D::invert(glm::vec2 p, std::span<const float> params) const {
-  if (mode_ != Mode::Distribution) throw Error("bilinear warp: invert() needs a distribution");
-  p = glm::clamp(p, 0.0f, 1.0f);
-  const SliceBlend blend = blendFor(params);
-  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
-  const float dx = 1.0f / (width_ - 1), dy = 1.0f / (height_ - 1);
-  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
-  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
-  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
-  const std::size_t row0 = static_cast<std::size_t>(row) * width_, row1 = row0 + width_;
-
-  const float c0 = lerp(blended(values_, slice_size, row0 + col, blend), blended(values_, slice_size, row1 + col, blend), ty);
-  const float c1 = lerp(blended(values_, slice_size, row0 + col + 1, blend),
-                        blended(values_, slice_size, row1 + col + 1, blend), ty);
-  const float cdf_col = lerp(blended(row_cdf_, slice_size, row0 + col, blend),
-                             blended(row_cdf_, slice_size, row1 + col, blend), ty);
-  const float r0 = blended(row_cdf_, slice_size, row0 + width_ - 1, blend);
-  const float r1 = blended(row_cdf_, slice_size, row1 + width_ - 1, blend);
-  const float row_mass = lerp(r0, r1, ty);
-
-  glm::vec2 u;
-  const float mass_x = cdf_col + dx * tx * (c0 + 0.5f * (c1 - c0) * tx);
-  u.x = row_mass > 0.0f ? std::min(mass_x / row_mass, 1.0f) : 0.0f;
-  u.y = blended(marginal_cdf_, height_, row, blend) + dy * ty * (r0 + 0.5f * (r1 - r0) * ty);
-  return {glm::min(u, glm::vec2(1.0f)), lerp(c0, c1, tx)};
-}
-
-float BilinearWarp2D::eval(glm::vec2 p, std::span<const float> params) const {
-  p = glm::clamp(p, 0.0f, 1.0f);
-  const SliceBlend blend = blendFor(params);
-  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
-  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
-  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
-  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
-  const std::size_t i00 = static_cast<std::size_t>(row) * width_ + col, i01 = i00 + width_;
-  const float v0 = lerp(blended(values_, slice_size, i00, blend), blended(values_, slice_size, i00 + 1, blend), tx);
-  const float v1 = lerp(blended(values_, slice_size, i01, blend), blended(values_, slice_size, i01 + 1, blend), tx);
-  return lerp(v0, v1, ty);
-}
-
-void BilinearWarp2D::evalAtEveryLastValue(glm::vec2 p, std::span<const float> leading, std::span<float> out) const {
-  if (param_values_.empty() || leading.size() + 1 != param_values_.size() || out.size() != param_values_.back().size())
+BilinearWarp2D::Fixed BilinearWarp2D::fixedLeading(std::span<const float> leading) const {
+  if (param_values_.empty() || leading.size() + 1 != param_values_.size())
     throw Error("bilinear warp: evalAtEveryLastValue needs the leading parameters and one output per last value");
   // The blend at the last parameter's first value: that dimension then splits nothing (its weight
   // is exactly 1, as it is at any tabulated value), and value k is k slices of it further on.
   std::array<float, kMaxParams> params{};
   std::copy(leading.begin(), leading.end(), params.begin());
   params[leading.size()] = param_values_.back().front();
-  const SliceBlend first = blendFor(std::span<const float>(params.data(), param_values_.size()));
+  return {*this, blendFor(std::span<const float>(params.data(), param_values_.size()))};
+}
+
+BilinearWarp2D::Point BilinearWarp2D::sample(glm::vec2 u, std::span<const float> params) const {
+  return fixed(params).sample(u);
+}
+BilinearWarp2D::Point BilinearWarp2D::invert(glm::vec2 p, std::span<const float> params) const {
+  return fixed(params).invert(p);
+}
+float BilinearWarp2D::eval(glm::vec2 p, std::span<const float> params) const { return fixed(params).eval(p); }
+void BilinearWarp2D::evalAtEveryLastValue(glm::vec2 p, std::span<const float> leading, std::span<float> out) const {
+  fixedLeading(leading).evalAtEveryLastValue(p, out);
+}
+
+BilinearWarp2D::Point BilinearWarp2D::Fixed::sample(glm::vec2 u) const {
+  const BilinearWarp2D& w = *warp_;
+  if (w.mode_ != Mode::Distribution) throw Error("bilinear warp: sample() needs a distribution");
+  u = glm::clamp(u, 0.0f, 1.0f);
+  const SliceBlend& blend = blend_;
+  const int width = w.width_, height = w.height_;
+  const std::size_t slice_size = static_cast<std::size_t>(width) * height;
+  const float dx = 1.0f / (width - 1), dy = 1.0f / (height - 1);
+
+  // Row: the marginal density in y is linear within a row of cells, from r0 to r1 (row integrals).
+  const int row = findInterval(height, [&](int y) { return blended(w.marginal_cdf_, height, y, blend) < u.y; });
+  const std::size_t row0 = static_cast<std::size_t>(row) * width, row1 = row0 + width;
+  const float r0 = blended(w.row_cdf_, slice_size, row0 + width - 1, blend);
+  const float r1 = blended(w.row_cdf_, slice_size, row1 + width - 1, blend);
+  const float ty = solveLinearCdf(r0, r1, (u.y - blended(w.marginal_cdf_, height, row, blend)) / dy);
+
+  // Column: the conditional CDF at this y blends the two rows' CDFs; its total is the marginal
+  // density lerp(r0, r1, ty), so u.x scaled by it is the mass to reach.
+  const float target = u.x * lerp(r0, r1, ty);
+  auto cdf_at = [&](int x) {
+    return lerp(blended(w.row_cdf_, slice_size, row0 + x, blend), blended(w.row_cdf_, slice_size, row1 + x, blend), ty);
+  };
+  const int col = findInterval(width, [&](int x) { return cdf_at(x) < target; });
+  const float c0 = lerp(blended(w.values_, slice_size, row0 + col, blend), blended(w.values_, slice_size, row1 + col, blend), ty);
+  const float c1 = lerp(blended(w.values_, slice_size, row0 + col + 1, blend),
+                        blended(w.values_, slice_size, row1 + col + 1, blend), ty);
+  const float tx = solveLinearCdf(c0, c1, (target - cdf_at(col)) / dx);
+
+  return {{std::min((col + tx) * dx, 1.0f), std::min((row + ty) * dy, 1.0f)}, lerp(c0, c1, tx)};
+}
+
+BilinearWarp2D::Point BilinearWarp2D::Fixed::invert(glm::vec2 p) const {
+  const BilinearWarp2D& w = *warp_;
+  if (w.mode_ != Mode::Distribution) throw Error("bilinear warp: invert() needs a distribution");
   p = glm::clamp(p, 0.0f, 1.0f);
-  const std::size_t slice_size = static_cast<std::size_t>(width_) * height_;
-  const int col = std::min(static_cast<int>(p.x * (width_ - 1)), width_ - 2);
-  const int row = std::min(static_cast<int>(p.y * (height_ - 1)), height_ - 2);
-  const float tx = p.x * (width_ - 1) - col, ty = p.y * (height_ - 1) - row;
-  const std::size_t i00 = static_cast<std::size_t>(row) * width_ + col, i01 = i00 + width_;
+  const SliceBlend& blend = blend_;
+  const int width = w.width_, height = w.height_;
+  const std::size_t slice_size = static_cast<std::size_t>(width) * height;
+  const float dx = 1.0f / (width - 1), dy = 1.0f / (height - 1);
+  const auto [col, row, tx, ty] = cellOf(p, width, height);
+  const std::size_t row0 = static_cast<std::size_t>(row) * width, row1 = row0 + width;
+
+  const float c0 = lerp(blended(w.values_, slice_size, row0 + col, blend), blended(w.values_, slice_size, row1 + col, blend), ty);
+  const float c1 = lerp(blended(w.values_, slice_size, row0 + col + 1, blend),
+                        blended(w.values_, slice_size, row1 + col + 1, blend), ty);
+  const float cdf_col = lerp(blended(w.row_cdf_, slice_size, row0 + col, blend),
+                             blended(w.row_cdf_, slice_size, row1 + col, blend), ty);
+  const float r0 = blended(w.row_cdf_, slice_size, row0 + width - 1, blend);
+  const float r1 = blended(w.row_cdf_, slice_size, row1 + width - 1, blend);
+  const float row_mass = lerp(r0, r1, ty);
+
+  glm::vec2 u;
+  const float mass_x = cdf_col + dx * tx * (c0 + 0.5f * (c1 - c0) * tx);
+  u.x = row_mass > 0.0f ? std::min(mass_x / row_mass, 1.0f) : 0.0f;
+  u.y = blended(w.marginal_cdf_, height, row, blend) + dy * ty * (r0 + 0.5f * (r1 - r0) * ty);
+  return {glm::min(u, glm::vec2(1.0f)), lerp(c0, c1, tx)};
+}
+
+float BilinearWarp2D::Fixed::eval(glm::vec2 p) const {
+  const BilinearWarp2D& w = *warp_;
+  p = glm::clamp(p, 0.0f, 1.0f);
+  const int width = w.width_, height = w.height_;
+  const std::size_t slice_size = static_cast<std::size_t>(width) * height;
+  const auto [col, row, tx, ty] = cellOf(p, width, height);
+  const std::size_t i00 = static_cast<std::size_t>(row) * width + col, i01 = i00 + width;
+  const float v0 = lerp(blended(w.values_, slice_size, i00, blend_), blended(w.values_, slice_size, i00 + 1, blend_), tx);
+  const float v1 = lerp(blended(w.values_, slice_size, i01, blend_), blended(w.values_, slice_size, i01 + 1, blend_), tx);
+  return lerp(v0, v1, ty);
+}
+
+void BilinearWarp2D::Fixed::evalAtEveryLastValue(glm::vec2 p, std::span<float> out) const {
+  const BilinearWarp2D& w = *warp_;
+  if (w.param_values_.empty() || out.size() != w.param_values_.back().size())
+    throw Error("bilinear warp: evalAtEveryLastValue needs the leading parameters and one output per last value");
+  p = glm::clamp(p, 0.0f, 1.0f);
+  const int width = w.width_, height = w.height_;
+  const std::size_t slice_size = static_cast<std::size_t>(width) * height;
+  const auto [col, row, tx, ty] = cellOf(p, width, height);
+  const std::size_t i00 = static_cast<std::size_t>(row) * width + col, i01 = i00 + width;
+  const std::uint32_t last_stride = w.param_strides_[w.param_values_.size() - 1];
   for (std::size_t k = 0; k < out.size(); ++k) {
-    SliceBlend blend = first;
-    for (int j = 0; j < blend.count; ++j) blend.slice[j] += static_cast<std::uint32_t>(k) * param_strides_[param_values_.size() - 1];
-    const float v0 = lerp(blended(values_, slice_size, i00, blend), blended(values_, slice_size, i00 + 1, blend), tx);
-    const float v1 = lerp(blended(values_, slice_size, i01, blend), blended(values_, slice_size, i01 + 1, blend), tx);
+    SliceBlend blend = blend_;
+    for (int j = 0; j < blend.count; ++j) blend.slice[j] += static_cast<std::uint32_t>(k) * last_stride;
+    const float v0 = lerp(blended(w.values_, slice_size, i00, blend), blended(w.values_, slice_size, i00 + 1, blend), tx);
+    const float v1 = lerp(blended(w.values_, slice_size, i01, blend), blended(w.values_, slice_size, i01 + 1, blend), tx);
     out[k] = lerp(v0, v1, ty);
   }
 }

@@ -144,6 +144,10 @@ Rgb BinnedSampler::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) 
   return material_->eval(wi, wo, uv);
 }
 
+void BinnedSampler::evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out, glm::vec2 uv) const {
+  material_->evalMany(wo, wi, out, uv);
+}
+
 float BinnedSampler::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (!(wo.z > 0.0f)) return 0.0f;
   return pdfQuery(query(wo), wi);

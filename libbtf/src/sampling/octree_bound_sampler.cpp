@@ -190,6 +190,10 @@ Rgb OctreeBoundSampler::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2
   return material_->eval(wi, wo, uv);
 }
 
+void OctreeBoundSampler::evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out, glm::vec2 uv) const {
+  material_->evalMany(wo, wi, out, uv);
+}
+
 float OctreeBoundSampler::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (!(wi.z > 0.0f && wo.z > 0.0f)) return 0.0f;
   const glm::vec3 s = wi + wo;

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <span>
 #include <string>
 
 #include "btf/core/rgb.h"
@@ -30,6 +31,11 @@ class Material {
   // Solid-angle density with which sample() returns wi; agrees with sample() exactly.
   virtual float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const = 0;
 
+  // eval(wi[k], wo, uv) into out[k] for every k, the same floats: the stream form a renderer or a
+  // sampler's stream call uses to weight many draws at one wo. Materials that set up work per wo
+  // (an RGL file's warps) do it once here. Throws btf::Error when the spans' sizes differ.
+  virtual void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
+                        glm::vec2 uv = {}) const;
   // Short human-readable description, e.g. "ggx(alpha=0.2)".
   virtual std::string name() const = 0;
   // True when f depends on the azimuth of the half vector (phi_h) and not only on relative angles.
@@ -38,6 +44,10 @@ class Material {
   // safe default, for measured data that is only approximately reciprocal; tabulate() then stores
   // the mean of both orders.
   virtual bool isReciprocal() const { return false; }
+
+ protected:
+  // evalMany's contract: as many outputs as directions (btf::Error otherwise).
+  static void checkEvalManySizes(std::span<const glm::vec3> wi, std::span<const Rgb> out);
 };
 
 }  // namespace btf

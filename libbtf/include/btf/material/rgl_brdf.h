@@ -35,6 +35,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ class RglBrdf final : public Material {
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  // wo's angles, unit coordinates, warp slices and projected area are found once for all wi.
+  void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
+                glm::vec2 uv = {}) const override;
   std::string name() const override;
 
   const std::string& description() const { return description_; }
@@ -63,17 +67,29 @@ class RglBrdf final : public Material {
   const std::vector<float>& thetaSamples() const { return theta_o_; }
 
  private:
-  // f cos(theta_i) per channel at the square point s (VNDF domain), for wo with parameters params.
-  Rgb reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, glm::vec2 u_o, float theta_o) const;
-  // (wi, wo) through the inverse maps: m's and wo's unit coordinates, the VNDF square point s, and
-  // (with_pdf) the solid-angle density of sample(), 0 where it is not finite. eval, pdf and sample
-  // all go through it, so that they agree exactly.
+  // What depends on wo alone: its angles and unit coordinates, the VNDF warp and RGB table at its
+  // theta_o, and the projected area sigma(wo). Every query sets it up once (evalMany once for all
+  // its wi); the luminance warp only the queries that need a pdf.
+  struct Outgoing {
+    float theta_o, phi_o;
+    glm::vec2 u_o;
+    BilinearWarp2D::Fixed vndf, rgb;
+    float sigma;  // only with jacobian_
+  };
+  BilinearWarp2D::Fixed luminanceAt(const Outgoing& o) const;
+  Outgoing outgoing(const glm::vec3& wo) const;
+  // f cos(theta_i) per channel at the square point s (VNDF domain) and m's unit coordinates u_m.
+  Rgb reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, const Outgoing& o) const;
+  // (wi, wo) through the inverse maps: m's unit coordinates, the VNDF square point s, and (given
+  // the luminance warp at wo) the solid-angle density of sample(), 0 where it is not finite. eval,
+  // pdf and sample all go through it, so that they agree exactly.
   struct InverseMap {
-    glm::vec2 s{0.0f}, u_m{0.0f}, u_o{0.0f};
-    float theta_o = 0.0f;
+    glm::vec2 s{0.0f}, u_m{0.0f};
     float pdf = 0.0f;
   };
-  InverseMap mapBack(const glm::vec3& wi, const glm::vec3& wo, bool with_pdf) const;
+  InverseMap mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
+                     const BilinearWarp2D::Fixed* luminance) const;
+  Rgb evalWith(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o) const;
 
   std::string stem_;
   std::string description_;

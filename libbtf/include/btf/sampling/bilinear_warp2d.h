@@ -69,6 +69,32 @@ class BilinearWarp2D {
     std::array<std::uint32_t, 1 << kMaxParams> slice{};
     std::array<float, 1 << kMaxParams> weight{};
   };
+
+ public:
+  // The function at fixed parameter values, for many queries at them (an RGL file's warps for one
+  // outgoing direction): the search for the parameter slices and their weights is done once. Its
+  // queries are the warp's own queries at those parameters, the same floats bit for bit. It refers
+  // to the warp, which must outlive it.
+  class Fixed {
+   public:
+    Point sample(glm::vec2 u) const;
+    Point invert(glm::vec2 p) const;
+    float eval(glm::vec2 p) const;
+    // Only on what fixedLeading() returns: evalAtEveryLastValue(p, leading, out) of the warp.
+    void evalAtEveryLastValue(glm::vec2 p, std::span<float> out) const;
+
+   private:
+    friend class BilinearWarp2D;
+    Fixed(const BilinearWarp2D& warp, const SliceBlend& blend) : warp_(&warp), blend_(blend) {}
+    const BilinearWarp2D* warp_;
+    SliceBlend blend_;
+  };
+  // params as for sample(); sample/invert of the result require Distribution mode (btf::Error).
+  Fixed fixed(std::span<const float> params = {}) const;
+  // The leading parameters of evalAtEveryLastValue, fixed (btf::Error for a wrong count).
+  Fixed fixedLeading(std::span<const float> leading) const;
+
+ private:
   SliceBlend blendFor(std::span<const float> params) const;
   // sum_k weight_k * values[slice_k * stride + index]
   static float blended(const std::vector<float>& values, std::size_t stride, std::size_t index,

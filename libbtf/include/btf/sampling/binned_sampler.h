@@ -121,6 +121,8 @@ class BinnedSampler : public Material {
   BinnedSampler(std::shared_ptr<const Material> material, const SamplerOptions& options);
 
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
+                glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   // final: callers holding a BinnedSampler& get a direct call.
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const final;

@@ -55,6 +55,8 @@ class OctreeBoundSampler final : public Material {
   explicit OctreeBoundSampler(std::shared_ptr<const OctreeBrdf> material, int theta_o_bins = 90);
 
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
+                glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::string name() const override;
