@@ -199,6 +199,29 @@ TEST(CliVqDatabase, DecompressOfADatabaseNeedsAKnownMaterialName) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(CliVqDatabase, CompareMaterialPicksTheDatabasesMaterial) {
+  TempDir dir;
+  const fs::path db = dir / "db.btfz", acrylic = dir / "acrylic";
+  ASSERT_FALSE(compressOk({"merl-fit:sgd:alum-bronze", "merl-fit:sgd:blue-acrylic"}, db, {"--no-verify"}).is_null());
+  const CommandResult d =
+      runBtf({"decompress", db.string(), acrylic.string(), "--material", "blue-acrylic-sgd", "--format", "exr"});
+  ASSERT_EQ(d.exit_code, 0) << d.output;
+  auto relRmse = [&](const std::string& material) {
+    const CommandResult r = runBtf({"compare", db.string(), acrylic.string(), "--material", material, "--json"});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.exit_code == 0 ? parseJsonOutput(r).at("rel_rmse").get<double>() : -1.0;
+  };
+  // The material the folder was decoded from matches it exactly; the other one is another BRDF.
+  EXPECT_EQ(relRmse("blue-acrylic-sgd"), 0.0);
+  EXPECT_GT(relRmse("alum-bronze-sgd"), 0.1);
+  expectFailure(runBtf({"compare", db.string(), acrylic.string()}),
+                {db.string(), "is a database of 2 materials", "name the one to read"});
+  expectFailure(runBtf({"compare", db.string(), acrylic.string(), "--material", "chrome"}),
+                {db.string(), "no material named 'chrome'"});
+  expectFailure(runBtf({"compare", acrylic.string(), acrylic.string(), "--material", "chrome"}),
+                {"--material names a material of a .btfz database"});
+}
+
 TEST(CliVqDatabase, MergeFailuresNameTheProblemAndLeaveNoOutput) {
   TempDir dir;
   const fs::path pair = dir / "pair.btfz", bronze = dir / "bronze.btfz", bronze_coarse = dir / "bronze-coarse.btfz",

@@ -40,24 +40,27 @@ BtfInput openMerlFit(const std::string& spec) {
 }
 }  // namespace
 
-BtfInput openBtfInput(const std::filesystem::path& path) {
-  if (path.string().starts_with(kMerlFitPrefix)) return openMerlFit(path.string());
+BtfInput openBtfInput(const std::filesystem::path& path, const std::string& material) {
   std::error_code ec;
+  const bool database = path.extension() == ".btfz" && !std::filesystem::is_directory(path, ec);
+  if (!material.empty() && !database)
+    throw FileError(path, "a material name ('" + material + "') selects a material of a .btfz database; this is not one");
+  if (path.string().starts_with(kMerlFitPrefix)) return openMerlFit(path.string());
   if (std::filesystem::is_directory(path, ec)) {
     auto folder = std::make_shared<BtfImageFolder>(BtfImageFolder::open(path));
     return {BtfInputKind::ImageFolder, folder, "image-folder BTF"};
   }
   if (!std::filesystem::exists(path, ec)) throw FileError(path, "no such file or folder");
   if (path.extension() == ".btfz") {
-    auto vq = std::make_shared<VqBtf>(VqBtf::read(path));
+    auto vq = std::make_shared<VqBtf>(VqBtf::read(path, material));
     return {BtfInputKind::Compressed, vq, "VQ-compressed BTF (.btfz)"};
   }
   const std::string ext = path.extension().string();
   if (ext != ".binary" && ext != ".bsdf" && ext != ".exr")
     throw FileError(path, "is not a BTF (expected an image folder, a .btfz file, or a BRDF as .binary, .exr or .bsdf)");
   const MeasuredFormat format = measuredFormatOf(path);
-  const auto material = loadMeasuredMaterial(path, TableLookup::Interpolated);
-  auto data = std::make_shared<BtfData>(brdfAsBtf(*material, path.stem().string()));
+  const auto brdf = loadMeasuredMaterial(path, TableLookup::Interpolated);
+  auto data = std::make_shared<BtfData>(brdfAsBtf(*brdf, path.stem().string()));
   return {BtfInputKind::Brdf, data, describe(format) + " as a one-texel BTF at 81 x 81 directions"};
 }
 

@@ -24,8 +24,9 @@ struct BtfInput {
 
 inline constexpr const char* kMerlFitPrefix = "merl-fit:";
 
-// Throws FileError for a missing path or an unknown kind of file.
-BtfInput openBtfInput(const std::filesystem::path& path);
+// Throws FileError for a missing path or an unknown kind of file. `material` names the material
+// of a .btfz database to read (empty: the file must hold one); other inputs refuse a name.
+BtfInput openBtfInput(const std::filesystem::path& path, const std::string& material = {});
 
 // `btf info` for BTFs: true for a folder or a .btfz file, which runBtfInfo describes.
 bool isBtfPath(const std::filesystem::path& path);

@@ -1,7 +1,8 @@
 // `btf compare A B`: how far a test image A is from a reference image B (relmse, rel_rmse,
 // psnr_db, max_abs), and optionally a heat map of the relative error. When A and B are BTFs (image
 // folders or .btfz files), how far BTF A is from BTF B over B's views: rel_rmse, psnr_db, the
-// displayed rel_rmse and mean SSIM (io/btf_quality.h) and B's noise floor.
+// displayed rel_rmse and mean SSIM (io/btf_quality.h) and B's noise floor; --material picks one
+// material of a .btfz database.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -22,6 +23,7 @@ namespace {
 
 struct CompareOptions {
   std::string test, reference, output;
+  std::string material;  // of whichever BTF is a .btfz database
   double scale = 0.5;
   bool json = false;
 };
@@ -43,7 +45,14 @@ std::string formatMeasure(double v) {
 
 void runBtfCompare(const CompareOptions& o) {
   if (!o.output.empty()) throw Error("compare: -o (a heat map) is for images, not BTFs");
-  const BtfInput test = openBtfInput(o.test), reference = openBtfInput(o.reference);
+  auto open = [&](const std::string& path) {
+    return openBtfInput(path, std::filesystem::path(path).extension() == ".btfz" ? o.material : std::string());
+  };
+  if (!o.material.empty() && std::filesystem::path(o.test).extension() != ".btfz" &&
+      std::filesystem::path(o.reference).extension() != ".btfz")
+    throw Error("compare: --material names a material of a .btfz database, and neither " + o.test + " nor " +
+                o.reference + " is one");
+  const BtfInput test = open(o.test), reference = open(o.reference);
   const BtfErrorStats e = compareBtf(*reference.source, *test.source);
   const BtfSsimStats ssim = compareBtfSsim(*reference.source, *test.source);
   const BtfNoiseFloor noise = estimateBtfNoiseFloor(*reference.source);
@@ -87,6 +96,7 @@ void runCompare(const CompareOptions& o) {
     runBtfCompare(o);
     return;
   }
+  if (!o.material.empty()) throw Error("compare: --material is for BTFs (.btfz databases), not images");
   const Image test = readImage(o.test);
   const Image reference = readImage(o.reference);
   const render::ImageComparison c = render::compareImages(test, reference, o.test, o.reference);
@@ -134,6 +144,9 @@ void registerCompareCommand(CLI::App& app) {
   cmd->add_option("--scale", o->scale, "Relative error at the top (yellow) of the heat map")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--material", o->material,
+                  "The material of a .btfz database to compare (of A, B or both, whichever are databases; btf info "
+                  "lists them)");
   cmd->add_flag("--json", o->json, "Machine-readable output (a non-finite measure is the string \"inf\" or \"-inf\")");
   cmd->callback([o] { runCompare(*o); });
 }
