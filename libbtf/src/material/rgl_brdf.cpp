@@ -113,11 +113,10 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 }
 
 RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
-  const float theta_o = sphericalTheta(wo);
+  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
   const float params[1] = {theta_o};
-  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(std::atan2(wo.y, wo.x)));
-  return {theta_o, std::atan2(wo.y, wo.x), u_o, vndf_.fixed(params), rgb_.fixedLeading(params),
-          jacobian_ ? sigma_.eval(u_o) : 1.0f};
+  const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
+  return {theta_o, phi_o, u_o, vndf_.fixed(params), rgb_.fixedLeading(params), jacobian_ ? sigma_.eval(u_o) : 1.0f};
 }
 
 BilinearWarp2D::Fixed RglBrdf::luminanceAt(const Outgoing& o) const {
