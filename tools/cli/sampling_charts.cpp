@@ -100,7 +100,8 @@ std::string efficiencyBlock(const std::vector<SamplingRow>& all_rows, std::vecto
 }
 
 // Per material, efficiency relative to its own sampler against theta_o: the tabulated sampler and
-// DP-CDF at the middle epsilon of the run, single queries and stream calls, per parameterization.
+// DP-CDF at the middle epsilon of the run, single queries and stream calls, per parameterization,
+// under the ceilings no sampler can pass.
 std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows, std::ostringstream& script) {
   std::vector<double> epsilons;
   for (const SamplingRow& r : rows)
@@ -122,6 +123,11 @@ std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows,
       blocks[name] << x << ' ' << y << '\n';
     };
     for (const SamplingRow& r : rows) {
+      // What no sampler can pass (EfficiencyCeiling), on the own sampler's rows.
+      if (r.material == materials[mi] && r.ceiling_vs_own && r.stream_ceiling_vs_own) {
+        add("ceiling, single", r.theta_o_deg, *r.ceiling_vs_own);
+        add("ceiling, stream", r.theta_o_deg, *r.stream_ceiling_vs_own);
+      }
       if (r.material != materials[mi] || !r.efficiency_vs_own || r.parameterization.empty()) continue;
       if (r.sampler == "dp-cdf" && r.parameter && *r.parameter == middle) {
         std::ostringstream name;
