@@ -3,7 +3,9 @@
 // roughness patterns (a checker of two colours times a gradient, roughness varying along y).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <memory>
 
 #include "btf/core/btf_directions.h"
@@ -56,6 +58,25 @@ inline double luminanceRelRmse(const BtfSource& reference, const BtfSource& test
     }
   }
   return std::sqrt(err / ref);
+}
+
+// RGB bound of vq_btf.h: rel_rmse(RGB) <= kmax / sqrt(1.7797) * lum
+//   + sqrt(1.0986 / 1.7797) * m * chroma_epsilon * sqrt(1 + energy_floor^2), with lum the measured
+// luminance rel_rmse, kmax the largest |RGB| / luminance of the decoded data (largest chroma
+// amplitude) and m = 2 for 3 levels (level 3's whole-texel chroma test), else 1;
+// 1.7797 = min |RGB|^2 / Y^2, 1.0986 = max |dRGB|^2 / |d(R/Y, B/Y)|^2.
+inline double vqRgbBound(const BtfSource& decoded, double lum, float chroma_epsilon, float energy_floor, int levels) {
+  std::vector<Rgb> values;
+  double kmax = 0;
+  for (int slot = 0; slot < decoded.views().count(); ++slot) {
+    decoded.loadView(decoded.views().view(slot), values);
+    for (const Rgb& c : values)
+      if (c.luminance() > 0)
+        kmax = std::max(kmax, std::sqrt(double(c.r) * c.r + double(c.g) * c.g + double(c.b) * c.b) / c.luminance());
+  }
+  const double m = levels == 3 ? 2.0 : 1.0;
+  return kmax / std::sqrt(1.7797) * lum +
+         std::sqrt(1.0986 / 1.7797) * m * chroma_epsilon * std::sqrt(1.0 + double(energy_floor) * energy_floor) + 1e-4;
 }
 
 }  // namespace btf::test

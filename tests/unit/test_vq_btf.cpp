@@ -120,22 +120,6 @@ TEST(VqBtf, EpsilonZeroIsNearLossless) {
   EXPECT_LT(btf::compareBtf(constantChromaBtf(), vq).rel_rmse, 2e-3);
 }
 
-// RGB bound of vq_btf.h: rel_rmse(RGB) <= kmax / sqrt(1.7797) * lum
-//   + sqrt(1.0986 / 1.7797) * ce * sqrt(1 + energy_floor^2), with lum the measured luminance rel_rmse and kmax the largest |RGB| / luminance of the decoded
-// data (largest chroma amplitude); 1.7797 = min |RGB|^2 / Y^2, 1.0986 = max |dRGB|^2 / |d(R/Y, B/Y)|^2.
-static double rgbBound(const btf::BtfSource& decoded, double lum, float chroma_epsilon, float energy_floor) {
-  std::vector<btf::Rgb> values;
-  double kmax = 0;
-  for (int v = 0; v < btf::kBtfDirectionCount; ++v) {
-    decoded.loadView(v, values);
-    for (const btf::Rgb& c : values)
-      if (c.luminance() > 0)
-        kmax = std::max(kmax, std::sqrt(double(c.r) * c.r + double(c.g) * c.g + double(c.b) * c.b) / c.luminance());
-  }
-  return kmax / std::sqrt(1.7797) * lum +
-         std::sqrt(1.0986 / 1.7797) * chroma_epsilon * std::sqrt(1.0 + double(energy_floor) * energy_floor) + 1e-4;
-}
-
 // RGB rel_rmse of the exact luminance with one chromaticity per ring (the energy-weighted mean):
 // the floor of a one-chroma-per-ring scheme, which the bound must be below for the test to bite.
 static double ringMeanChromaRelRmse(const btf::BtfSource& data) {
@@ -180,7 +164,7 @@ TEST(VqBtf, RgbErrorOfDirectionDependentColourFollowsBothTolerances) {
     const btf::VqBtf vq = btf::compressVq(data, options);
     const double lum = btf::test::luminanceRelRmse(data, vq);
     const double rgb = btf::compareBtf(data, vq).rel_rmse;
-    const double bound = rgbBound(vq, lum, c.chroma_epsilon, options.energy_floor);
+    const double bound = btf::test::vqRgbBound(vq, lum, c.chroma_epsilon, options.energy_floor, c.levels);
     std::printf("levels %d, epsilon %.2f, chroma_epsilon %.2f: rgb rel_rmse %.4f <= bound %.4f (luminance %.4f)\n",
                 c.levels, double(c.epsilon), double(c.chroma_epsilon), rgb, bound, lum);
     EXPECT_LE(lum, luminanceBound(c.epsilon, c.levels));

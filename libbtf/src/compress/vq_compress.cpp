@@ -32,10 +32,11 @@
 // - level 3: the key is the texel's 81 view scales (normalized). Since |a e - b e'| >= |a - b| for
 //   unit e, e', an entry whose full reconstruction is within epsilon has a key within about the
 //   same radius; candidates (8 nearest within 1.5x the radius) are verified on the full
-//   81 x 81 reconstruction through the level-2 entries' dot products.
-// Rings without light (all zero) skip the chromaticity check: their colour is never seen. Level 3
-// reuses a level-2 entry's ring chromaticity only when it is the data's own level-1 chroma entry or
-// the one its level-2 entry carries, both verified against the data.
+//   81 x 81 reconstruction through the level-2 entries' dot products, and on the texel's
+//   chromaticity as a whole (vq_btf.h). (The texel's mean chromaticity appended to the key, so
+//   that the 8 candidates are not texels of another ink, saved only 2.4 % of the level-3 entries
+//   on the printed BTF at 64 x 64: left out.)
+// Rings without light (all zero) skip the chromaticity check: their colour is never seen.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
@@ -54,6 +55,7 @@
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
 #include "vq_impl.h"
+#include "vq_prune.h"
 #include "vq_sections.h"
 
 namespace btf {
@@ -509,10 +511,16 @@ class Compressor {
     l3_norm2_.push_back(float(y2));
     return l3_->add(std::span<const float>(key, views_));
   }
-  // x . y and |y|^2 of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
-  // (unscaled); nothing when the chromaticities do not pass.
+  // x . y of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
+  // (unscaled); nothing when their chromaticities differ by more than the tolerance. The chroma
+  // test is over the whole texel, as the luminance one is (vq_btf.h): the luminance-weighted
+  // squared error sum_l Y_l^2 |c'_l - c_l|^2 over its 81 x 81 samples, with Y from x and c from
+  // its own chroma entries (each verified against the data at level 1 or 2; the data is gone by
+  // level 3), <= chroma_epsilon^2 max(|x|^2, (energy_floor R)^2), R the RMS texel norm. On noisy
+  // data a test per ring and view could not pass: a single light's chroma noise (ring 0) alone
+  // exceeds the tolerance, so every texel of a camera-noise BTF was its own level-3 entry.
   std::optional<double> level3Dot(std::size_t t, std::uint32_t entry) const {
-    double xy = 0;
+    double xy = 0, chroma_err = 0;
     const float* q = l3_->entry(entry);
     for (std::size_t v = 0; v < views_; ++v) {
       const std::size_t k = t * views_ + v;
@@ -522,14 +530,32 @@ class Compressor {
         for (int r = 0; r < kBtfRingCount; ++r) {
           const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
           const std::uint32_t c = books_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
+          // The slice's own level-2 entry's chroma passed level 2's test against the data.
           if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
-            return std::nullopt;
+            chroma_err += double(s) * s * level3ChromaError(c, own, a, r);
         }
       if (s == 0 || q[v] == 0) continue;
       const double ab = a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
       xy += double(s) * q[v] * ab;
     }
+    const double floor = double(options_.energy_floor) * texel_rms_;
+    const double tol2 = double(options_.chroma_epsilon) * options_.chroma_epsilon * std::max(texel_norm2_[t], floor * floor);
+    if (chroma_err > tol2) return std::nullopt;
     return xy;
+  }
+  // sum_a y_a^2 |e_a - o_a|^2 over ring r's lights: chroma entries `entry` and `own` weighted by
+  // the luminance y of level-2 entry a (unscaled).
+  double level3ChromaError(std::uint32_t entry, std::uint32_t own, std::uint32_t a, int r) const {
+    const int n = btfRingSize(r), start = btfRingStart(r);
+    const float* y = l2_->entry(a) + start;
+    const float* e = chroma_books_[std::size_t(r)].entry(entry);
+    const float* o = chroma_books_[std::size_t(r)].entry(own);
+    double err = 0;
+    for (int i = 0; i < 2 * n; ++i) {
+      const double d = double(e[i]) - o[i], w = y[i / 2];
+      err += w * w * d * d;
+    }
+    return err;
   }
   bool level3Passes(std::size_t t, std::uint32_t entry) const {
     const auto xy = level3Dot(t, entry);
@@ -651,6 +677,8 @@ VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   auto impl = materialImpl(source, options, source.name() + " (vq)");
   inArena(options.threads, [&] { Compressor(options, *impl).run(source, *impl); });
+  VqBtf::Impl* const material = impl.get();
+  pruneVqCodebooks(*impl, std::span(&material, 1));
   impl->prepare("compressVq");
   VqStats& stats = impl->stats;
   stats.codebook_entries = vqCodebookEntries(*impl);
@@ -678,6 +706,9 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
     Compressor compressor(options, books);
     for (std::size_t i = 0; i < sources.size(); ++i) compressor.run(*sources[i], *impls[i]);
   });
+  std::vector<VqBtf::Impl*> pointers;
+  for (auto& impl : impls) pointers.push_back(impl.get());
+  pruneVqCodebooks(books, pointers);
   std::vector<VqBtf> materials;
   for (auto& impl : impls) {
     impl->l1 = books.l1;

@@ -49,12 +49,21 @@ namespace btf {
 //   error sum_a Y_a^2 |c'_a - c_a|^2 <= chroma_epsilon^2 max(sum_a Y_a^2, (energy_floor R)^2)
 //   (absolute: c is already normalized; R is the RMS ring norm of the ring's batch, so dark rings,
 //   whose colour adds little to the error, get the same floor as their luminance), checked
-//   against the data at level 1 and 2; level 3 keeps a ring's chroma entry only when it is one of
-//   those two checked ones. New entries are stored on a grid of step chroma_epsilon / 4
-//   (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2 |dc|^2 and
-//   |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is
-//   <= kmax / 1.334 * L + 0.786 chroma_epsilon sqrt(1 + energy_floor^2), with L the luminance
-//   rel_rmse and kmax the largest |RGB| / Y of the decoded data.
+//   against the data at level 1 and 2. Level 3 tests the whole texel, as it does its luminance:
+//   a texel may take another's entry when, summed over its 81 x 81 samples, the luminance-weighted
+//   squared difference between the entry's chroma and the texel's own verified chroma entries is
+//   <= chroma_epsilon^2 max(|Y|^2, (energy_floor R)^2) (weights from the level-2 reconstruction;
+//   rings where the entry keeps the texel's own or its slice's level-2 chroma add nothing), so by
+//   the triangle inequality level 3 at most doubles the chroma term below. (A test per ring and
+//   view, as level 2's, can never pass on camera data: one light's chroma noise exceeds any useful
+//   tolerance, and 486 rings must all pass.) New entries are stored on a grid of step
+//   chroma_epsilon / 4 (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2
+//   |dc|^2 and |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is
+//   <= kmax / 1.334 * L + 0.786 m chroma_epsilon sqrt(1 + energy_floor^2), with L the luminance
+//   rel_rmse, kmax the largest |RGB| / Y of the decoded data, and m = 1 for 1 or 2 levels, 2 for 3.
+// - Entries that nothing references once the last level is done (a texel that takes another's
+//   level-3 entry leaves its slices' level-2 entries, and the level-1 and chroma entries only they
+//   used, behind) are dropped before the file is written (src/compress/vq_prune.h).
 // Chromaticities are stored on a 16-bit grid of step chroma_epsilon / 4; since R/Y <= 4.7 and
 // B/Y <= 13.9 for non-negative RGB, a tolerance of 0.001 or more keeps the grid within 16 bits.
 inline constexpr float kVqMinChromaEpsilon = 0.001f;
