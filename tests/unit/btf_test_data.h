@@ -60,6 +60,12 @@ inline double luminanceRelRmse(const BtfSource& reference, const BtfSource& test
   return std::sqrt(err / ref);
 }
 
+// The luminance bound of vq_btf.h: (1 + epsilon sqrt(1 + floor^2) + 2 q)^levels - 1, each stored
+// rounding within q = max(epsilon / 16, 0.00034); 2 q is taken as epsilon / 8 + 1e-3.
+inline double vqLuminanceBound(float epsilon, int levels, float energy_floor = 1.0f) {
+  return std::pow(1.0 + double(epsilon) * (std::sqrt(1.0 + double(energy_floor) * energy_floor) + 0.125) + 1e-3, levels) - 1.0;
+}
+
 // RGB bound of vq_btf.h: rel_rmse(RGB) <= kmax / sqrt(1.7797) * lum
 //   + sqrt(1.0986 / 1.7797) * m * chroma_epsilon * sqrt(1 + energy_floor^2), with lum the measured
 // luminance rel_rmse, kmax the largest |RGB| / luminance of the decoded data (largest chroma

@@ -588,10 +588,7 @@ TEST(BtfPartialViewsBonn, RealOneViewSliceReadsAsSrgb) {
 // ---------------------------------------------------------------------------------------------
 // 5. VQ on partial BTFs
 
-// (1 + epsilon sqrt(1 + floor^2) + quantization)^levels - 1 (vq_btf.h, energy_floor 1).
-double luminanceBound(float epsilon, int levels) {
-  return std::pow(1.0 + epsilon * std::sqrt(2.0) + 1e-3, levels) - 1.0;
-}
+using btf::test::vqLuminanceBound;
 
 // Smooth (GGX over the directions) with a texture (checker times gradient), constant chromaticity
 // per texel.
@@ -627,7 +624,7 @@ void checkPartialVq(const BtfData& source, int levels, const fs::path& file, int
   EXPECT_EQ(vq.lookupViews(), source.views());
   ASSERT_EQ(vq.stats().codebook_entries.size(), std::size_t(levels));
   const BtfErrorStats error = compareBtf(source, vq);
-  EXPECT_LE(error.rel_rmse, luminanceBound(options.epsilon, levels) + 3.0 * options.chroma_epsilon);
+  EXPECT_LE(error.rel_rmse, vqLuminanceBound(options.epsilon, levels) + 3.0 * options.chroma_epsilon);
   EXPECT_LT(error.rel_rmse, 0.1);
   EXPECT_EQ(error.entries, source.entryCount());
 
@@ -697,7 +694,7 @@ TEST(BtfPartialViewsVq, PartialDecodeMatchesTheCompleteBtfsQuality) {
         ref += double(a[i][c]) * a[i][c];
       }
   }
-  EXPECT_LE(std::sqrt(err / ref), luminanceBound(0.02f, 3) + 0.03);
+  EXPECT_LE(std::sqrt(err / ref), vqLuminanceBound(0.02f, 3) + 0.03);
 }
 
 TEST(BtfPartialViewsVq, CompleteBtfzHasNoViewsKey) {

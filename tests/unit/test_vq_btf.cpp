@@ -21,11 +21,7 @@
 
 namespace {
 
-// (1 + epsilon sqrt(1 + floor^2) + quantization)^levels - 1: the luminance bound of vq_btf.h
-// (default energy_floor 1).
-double luminanceBound(float epsilon, int levels, float floor = 1.0f) {
-  return std::pow(1.0 + epsilon * std::sqrt(1.0 + double(floor) * floor) + 1e-3, levels) - 1.0;
-}
+using btf::test::vqLuminanceBound;
 
 void expectSameDecode(const btf::BtfSource& a, const btf::BtfSource& b) {
   std::vector<btf::Rgb> va, vb;
@@ -56,10 +52,10 @@ TEST(VqBtf, RoundTripErrorWithinTheToleranceBoundAtEveryLevel) {
       options.levels = levels;
       const btf::VqBtf vq = btf::compressVq(constantChromaBtf(), options);
       const double lum = btf::test::luminanceRelRmse(constantChromaBtf(), vq);
-      EXPECT_LE(lum, luminanceBound(epsilon, levels)) << "levels " << levels << ", epsilon " << epsilon;
+      EXPECT_LE(lum, vqLuminanceBound(epsilon, levels)) << "levels " << levels << ", epsilon " << epsilon;
       // Constant chromaticity per texel: RGB adds at most ~0.79 chroma_epsilon (vq_btf.h).
       const btf::BtfErrorStats rgb = btf::compareBtf(constantChromaBtf(), vq);
-      EXPECT_LE(rgb.rel_rmse, luminanceBound(epsilon, levels) + 3.0 * options.chroma_epsilon);
+      EXPECT_LE(rgb.rel_rmse, vqLuminanceBound(epsilon, levels) + 3.0 * options.chroma_epsilon);
       ASSERT_EQ(vq.stats().codebook_entries.size(), std::size_t(levels));
       EXPECT_GT(vq.stats().ratio_u8, 1.0);
       // value() decodes the same entries as loadView().
@@ -97,7 +93,7 @@ TEST(VqBtf, ScaledCopiesOfOneTexelShareEveryEntry) {
   EXPECT_EQ(vq.stats().codebook_entries[2], 2u);  // the seed (uniform texel) + one
   const auto single = btf::compressVq(btf::test::makeGgxBtf(1, 1, true), options);
   EXPECT_EQ(vq.stats().codebook_entries[1], single.stats().codebook_entries[1]);
-  EXPECT_LE(btf::test::luminanceRelRmse(copies, vq), luminanceBound(0.01f, 3, 0.0f));
+  EXPECT_LE(btf::test::luminanceRelRmse(copies, vq), vqLuminanceBound(0.01f, 3, 0.0f));
 }
 
 TEST(VqBtf, PurelyRelativeToleranceHasTheTighterBound) {
@@ -105,7 +101,7 @@ TEST(VqBtf, PurelyRelativeToleranceHasTheTighterBound) {
   options.epsilon = 0.02f;
   options.energy_floor = 0.0f;
   const btf::VqBtf strict = btf::compressVq(constantChromaBtf(), options);
-  EXPECT_LE(btf::test::luminanceRelRmse(constantChromaBtf(), strict), luminanceBound(0.02f, 3, 0.0f));
+  EXPECT_LE(btf::test::luminanceRelRmse(constantChromaBtf(), strict), vqLuminanceBound(0.02f, 3, 0.0f));
   options.energy_floor = 1.0f;
   const btf::VqBtf floored = btf::compressVq(constantChromaBtf(), options);
   EXPECT_LE(floored.stats().codebook_entries[0], strict.stats().codebook_entries[0]);
@@ -167,7 +163,7 @@ TEST(VqBtf, RgbErrorOfDirectionDependentColourFollowsBothTolerances) {
     const double bound = btf::test::vqRgbBound(vq, lum, c.chroma_epsilon, options.energy_floor, c.levels);
     std::printf("levels %d, epsilon %.2f, chroma_epsilon %.2f: rgb rel_rmse %.4f <= bound %.4f (luminance %.4f)\n",
                 c.levels, double(c.epsilon), double(c.chroma_epsilon), rgb, bound, lum);
-    EXPECT_LE(lum, luminanceBound(c.epsilon, c.levels));
+    EXPECT_LE(lum, vqLuminanceBound(c.epsilon, c.levels));
     EXPECT_LE(rgb, bound) << "levels " << c.levels << ", epsilon " << c.epsilon << ", chroma_epsilon " << c.chroma_epsilon;
     // One chromaticity per ring could not meet the bound even with exact luminance.
     if (c.chroma_epsilon == 0.01f) {

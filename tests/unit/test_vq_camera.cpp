@@ -86,7 +86,7 @@ TEST(VqCamera, NoisyTexelsOfOnePrintShareLevelThreeEntriesWithinTheTolerance) {
   // With a chroma test per ring and view every one of the 256 texels was its own entry.
   EXPECT_LT(entries[2], 256u / 2);
   EXPECT_GT(three.stats().ratio_u8, 1.3 * two.stats().ratio_u8);
-  EXPECT_LE(added, 0.2 * std::sqrt(2.0) + 2e-3);
+  EXPECT_LE(added, btf::test::vqLuminanceBound(0.2f, 1));
   // The colour: taking texels of the other ink (no chroma test at all) raised the RGB error by
   // more than half on the 64 x 64 print at epsilon 0.3, chroma 0.1 (0.17 -> 0.27); the whole-texel
   // test keeps it near level 2's.
@@ -108,5 +108,26 @@ TEST(VqCamera, NoCodebookKeepsAnEntryNothingReferences) {
   expectEveryEntryReferenced(first, {&first, &database.materials()[1].impl()});
   // Each material decodes within its bound after the renumbering.
   const btf::VqBtf& g = database.material("ggx");
-  EXPECT_LE(btf::test::luminanceRelRmse(ggx, g), std::pow(1.0 + 0.2 * std::sqrt(2.0) + 1e-3, 3) - 1.0);
+  EXPECT_LE(btf::test::luminanceRelRmse(ggx, g), btf::test::vqLuminanceBound(0.2f, 3));
+}
+
+// The compressor stores codes at the precision its tolerance allows (vq_impl.h): every scale code
+// and every level-1 value it wrote (the seeds, entry 0, excepted) is a multiple of its step.
+TEST(VqCamera, StoredCodesKeepThePrecisionTheToleranceAllows) {
+  const btf::VqBtf vq = btf::compressVq(cameraPrint(), printOptions(3));
+  const btf::VqBtf::Impl& m = vq.impl();
+  const btf::VqPrecision p = btf::vqPrecisionFor(0.2f);
+  ASSERT_GT(p.scale_shift, 0);
+  ASSERT_GT(p.value_shift, 0);
+  auto expectMultiples = [](const std::vector<std::uint16_t>& codes, std::size_t skip, int shift, const char* what) {
+    std::size_t off = 0;
+    for (std::size_t i = skip; i < codes.size(); ++i) off += codes[i] % (1u << shift) != 0 && codes[i] != 65535;
+    EXPECT_EQ(off, 0u) << what << ": " << off << " of " << codes.size() - skip << " codes off the step 2^" << shift;
+  };
+  for (int r = 1; r < btf::kBtfRingCount; ++r)
+    expectMultiples(m.l1[std::size_t(r)], std::size_t(btf::btfRingSize(r)), p.value_shift, "level-1 values");
+  expectMultiples(m.l2_scale, btf::kBtfRingCount, p.scale_shift, "level-2 scales");
+  expectMultiples(m.l3_scale, m.viewCount(), p.scale_shift, "level-3 scales");
+  expectMultiples(m.top_scale, 0, p.scale_shift, "texel scales");
+  EXPECT_LE(btf::test::luminanceRelRmse(cameraPrint(), vq), btf::test::vqLuminanceBound(0.2f, 3));
 }

@@ -19,8 +19,7 @@
 
 namespace {
 
-// The luminance bound of vq_btf.h (energy_floor 1) plus the 16-bit quantization.
-double luminanceBound(float epsilon, int levels) { return std::pow(1.0 + epsilon * std::sqrt(2.0) + 1e-3, levels) - 1.0; }
+using btf::test::vqLuminanceBound;
 
 void expectSameDecode(const btf::BtfSource& a, const btf::BtfSource& b) {
   ASSERT_EQ(a.views().views(), b.views().views());
@@ -69,7 +68,7 @@ TEST(VqDatabase, EveryMaterialKeepsTheBoundItHasAloneAtEveryLevel) {
       const btf::VqBtf& m = db.materials()[i];
       EXPECT_EQ(m.width(), source.width());
       EXPECT_EQ(m.views().views(), source.views().views());
-      EXPECT_LE(btf::test::luminanceRelRmse(source, m), luminanceBound(options.epsilon, levels))
+      EXPECT_LE(btf::test::luminanceRelRmse(source, m), vqLuminanceBound(options.epsilon, levels))
           << db.names()[i] << ", levels " << levels;
     }
     EXPECT_EQ(db.sharedEntries().size(), std::size_t(std::min(levels, 2)));

@@ -355,7 +355,7 @@ class Compressor {
     chroma_.resize(T * kBtfRingCount);
     entries_.assign(T * kBtfRingCount, 0);
     scales_.assign(T * kBtfRingCount, 0);
-    for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount]);
+    for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount], precision_.scale_shift);
     // The chroma codebooks of the six rings and the level-1 codebooks of rings 1..5 are independent
     // (each job reads the view and writes only its own codebook and ring slots): they run as
     // parallel jobs, each deterministic on its own, so their sequential parts overlap. Largest first.
@@ -405,7 +405,7 @@ class Compressor {
         [&](std::size_t t) -> std::int64_t {
           const auto u = unit(t);
           for (int a = 0; a < n; ++a) {
-            const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)]);
+            const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)], precision_.value_shift);
             books_.l1[std::size_t(r)].push_back(q);
             entry[std::size_t(a)] = decodeVqEntryValue(q);
           }
@@ -418,7 +418,7 @@ class Compressor {
       const float* e = book.entry(std::size_t(match[t]));
       const double ee = dot(e, e, n);
       const double fe = norms_[k] * dot(unit(t).data(), e, n);
-      scales_[k] = ee > 0 ? encodeVqScale(float(fe / ee)) : 0;
+      scales_[k] = ee > 0 ? encodeVqScale(float(fe / ee), precision_.scale_shift) : 0;
     });
   }
 
@@ -475,7 +475,8 @@ class Compressor {
         [&](std::size_t t) -> std::int64_t {
           std::uint16_t rel[kBtfRingCount];
           for (int r = 0; r < kBtfRingCount; ++r)
-            rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t]);
+            rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t],
+                                   precision_.scale_shift);
           return addLevel2Entry(&entries_[t * kBtfRingCount], rel, &chroma_[t * kBtfRingCount]);
         });
     parallelFor(T, [&](std::size_t t) {
@@ -484,7 +485,7 @@ class Compressor {
       if (slice_norm_[t] > 0) {
         const float* recon = l2_->entry(e);
         const double ls = slice_norm_[t] * dot(unit(t).data(), recon, kBtfDirectionCount) / l2_norm2_[e];
-        code = encodeVqScale(float(ls));
+        code = encodeVqScale(float(ls), precision_.scale_shift);
       }
       const std::size_t k = t * views_ + std::size_t(slot);
       if (options_.levels == 2) {
@@ -600,7 +601,7 @@ class Compressor {
         },
         [&](std::size_t t) -> std::int64_t {
           std::uint16_t rel[kBtfDirectionCount];
-          for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v]);
+          for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v], precision_.scale_shift);
           return addLevel3Entry(&view_index_[t * V], rel);
         },
         // Exact: the bounded search missed reusable texels (on the calibrated 256 x 256 print at
@@ -615,11 +616,12 @@ class Compressor {
       if (!(texel_norm2_[t] > 0)) return;
       const auto xy = level3Dot(t, e);
       const double y2 = l3_norm2_[e];
-      out_->top_scale[t] = xy && y2 > 0 ? encodeVqScale(float(*xy / y2)) : 0;
+      out_->top_scale[t] = xy && y2 > 0 ? encodeVqScale(float(*xy / y2), precision_.scale_shift) : 0;
     });
   }
 
   const VqOptions& options_;
+  const VqPrecision precision_ = vqPrecisionFor(options_.epsilon);
   VqBtf::Impl& books_;              // shared codebooks: level 1, chromaticity, level 2
   const BtfSource* source_ = nullptr;  // the material being compressed
   VqBtf::Impl* out_ = nullptr;         // its level-3 codebook and top stream

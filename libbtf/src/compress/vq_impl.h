@@ -15,18 +15,50 @@
 namespace btf {
 
 // 16-bit log2 scales: code 0 is zero; code q > 0 is 2^(q / 1024 - 40), i.e. 2^-40 .. 2^24 with a
-// relative step of 0.068 % (rounding error <= 0.034 %).
-inline std::uint16_t encodeVqScale(float s) {
+// relative step of 0.068 % (rounding error <= 0.034 %). The compressor rounds codes to a multiple
+// of 2^shift (VqPrecision below); decoding does not need to know the shift.
+inline std::uint16_t encodeVqScale(float s, int shift = 0) {
   if (!(s > 0.0f)) return 0;
-  const double q = std::round((std::log2(double(s)) + 40.0) * 1024.0);
-  return std::uint16_t(std::clamp(q, 1.0, 65535.0));
+  const double step = double(1 << shift);
+  const double q = std::round((std::log2(double(s)) + 40.0) * 1024.0 / step) * step;
+  return std::uint16_t(std::clamp(q, step, 65535.0));
 }
 inline float decodeVqScale(std::uint16_t q) { return q == 0 ? 0.0f : float(std::exp2(double(q) / 1024.0 - 40.0)); }
 
-// Level-1 entries are stored as 16-bit fixed point in [0, 1] (unit vectors of non-negative data).
-inline std::uint16_t encodeVqEntryValue(float v) { return std::uint16_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 65535.0f)); }
+// Level-1 entries are stored as 16-bit fixed point in [0, 1] (unit vectors of non-negative data),
+// rounded to a multiple of 2^shift (1 itself stays 65535).
+inline std::uint16_t encodeVqEntryValue(float v, int shift = 0) {
+  const float c = std::clamp(v, 0.0f, 1.0f);
+  if (shift == 0) return std::uint16_t(std::lround(c * 65535.0f));
+  const double step = double(1 << shift);
+  return std::uint16_t(std::min(std::round(double(c) * 65535.0 / step) * step, 65535.0));
+}
 // (A product, not a quotient: lookups decode one per sample.)
 inline float decodeVqEntryValue(std::uint16_t q) { return float(q) * (1.0f / 65535.0f); }
+
+// Stored precision matched to the tolerance: codes much finer than the error a level may add
+// anyway only cost bytes (the low bits of 16-bit codes are noise to zstd). The compressor rounds
+// scale codes and new level-1 values to multiples of 2^shift, the coarsest power of two whose
+// rounding stays within kVqQuantizationShare * epsilon relative: a scale's rounding scales its
+// whole vector by at most 2^(step / 2) - 1, and a new unit level-1 entry moves by at most
+// sqrt(n) step / 2 (n <= 24 values). The byte-planar sections (vq_io.cpp) then hold zero or
+// near-constant low planes, which zstd stores in almost nothing. Decoders read the codes as
+// before: the precision is the encoder's choice, not part of the format. A sixteenth of the
+// tolerance was the knee of the trade (README, "stored precision").
+inline constexpr double kVqQuantizationShare = 1.0 / 16.0;
+struct VqPrecision {
+  int scale_shift = 0;
+  int value_shift = 0;
+};
+inline VqPrecision vqPrecisionFor(float epsilon) {
+  const double budget = kVqQuantizationShare * double(epsilon);
+  VqPrecision p;
+  // Scale codes: step 2^shift / 1024 in log2; 2^(step / 2) - 1 <= budget.
+  while (p.scale_shift < 10 && std::exp2(std::exp2(p.scale_shift + 1) / 2048.0) - 1.0 <= budget) ++p.scale_shift;
+  // Level-1 values: step 2^shift / 65535; sqrt(24) step / 2 <= budget (24: the largest ring).
+  while (p.value_shift < 12 && std::sqrt(24.0) * std::exp2(p.value_shift + 1) / (2.0 * 65535.0) <= budget) ++p.value_shift;
+  return p;
+}
 
 // Chromaticity grid step: a quarter of the tolerance, so that quantizing a new entry costs at most
 // chroma_epsilon / 8 per component (always within its own tolerance).

@@ -41,8 +41,10 @@ namespace btf {
 //   values), level 3 the level-2 reconstruction of a texel (81 x 81 values). Summed over a batch,
 //   the squared error is <= epsilon^2 (1 + energy_floor^2) times the batch's energy, so each level
 //   adds a relative RMS error <= e = epsilon sqrt(1 + energy_floor^2), and the luminance rel_rmse
-//   is <= (1 + e)^levels - 1, plus the quantization of new entries' values (16-bit) and of scales
-//   (16-bit log2, step 1/1024: <= 0.034 %). energy_floor = 0 makes the bound per vector.
+//   is <= (1 + e + 2 q)^levels - 1, where q is the rounding of what is stored: new entries'
+//   values and scales are rounded to a precision matched to the tolerance, each rounding within
+//   q = max(epsilon / 16, 0.00034) relative (0.00034: the finest 16-bit log2 scale step's half;
+//   src/compress/vq_impl.h). energy_floor = 0 makes the bound per vector.
 // - Chromaticity c_a = (R / Y, B / Y) at each light azimuth a of a ring (where Y = 0, the ring's
 //   mean; G follows from Y) forms a chroma function per ring; its codebook entry (one per ring,
 //   carried by the level-1 code or the level-2 entry) is reused only when the luminance-weighted
