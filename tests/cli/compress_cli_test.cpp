@@ -48,6 +48,32 @@ TEST(CompressCli, FolderRoundTripReportsTheFilesOwnErrorAndRatio) {
   EXPECT_LE(back.rel_rmse, 1e-6) << "the folder holds what the file decodes to";
 }
 
+// --energy-floor reaches the compressor: it is recorded in the file and the report, a higher
+// floor (more absolute tolerance for dark vectors) stores fewer bytes, and a negative one is refused.
+TEST(CompressCli, EnergyFloorReachesTheFile) {
+  TempDir dir;
+  const fs::path folder = dir / "fabric";
+  ASSERT_EQ(runDatagen({"btf", "--pattern", "fabric", "--size", "8", "--seed", "2", "--format", "exr", "-o",
+                        folder.string()}).exit_code, 0);
+  double bytes[2] = {0, 0};
+  const char* floors[2] = {"0", "3"};
+  for (int i = 0; i < 2; ++i) {
+    const fs::path packed = dir / ("floor" + std::string(floors[i]) + ".btfz");
+    const CommandResult c = runBtf({"compress", folder.string(), packed.string(), "--epsilon", "0.1", "--energy-floor",
+                                    floors[i], "--no-verify", "--json"});
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    EXPECT_EQ(parseJsonOutput(c)["energy_floor"].get<double>(), std::stod(floors[i]));
+    EXPECT_EQ(VqBtf::read(packed).options().energy_floor, float(std::stod(floors[i])));
+    bytes[i] = double(fs::file_size(packed));
+  }
+  EXPECT_LT(bytes[1], bytes[0]);
+  const fs::path refused = dir / "refused.btfz";
+  const CommandResult bad = runBtf({"compress", folder.string(), refused.string(), "--energy-floor", "-1"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_THAT(bad.output, HasSubstr("--energy-floor"));
+  EXPECT_FALSE(fs::exists(refused));
+}
+
 // The real measured slice (one view, Bonn naming, 8-bit sRGB JPEG) through info, compress and
 // decompress: the partial view set survives every step, and the perceptual figures are those of
 // the written file.

@@ -77,6 +77,7 @@ void runCompress(const CompressArgs& args) {
                         {"views", source.views().views()},
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
+                        {"energy_floor", args.vq.energy_floor},
                         {"levels", args.vq.levels},
                         {"codebook_entries", compressed.stats().codebook_entries},
                         {"bytes", bytes},
@@ -128,6 +129,7 @@ void runCompressDatabase(const CompressArgs& args) {
   nlohmann::json report{{"output", args.out},
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
+                        {"energy_floor", args.vq.energy_floor},
                         {"levels", args.vq.levels},
                         {"shared_codebook_entries", database.sharedEntries()},
                         {"bytes", bytes},
@@ -238,6 +240,11 @@ void registerCompressCommands(CLI::App& app) {
   cmd->add_option("--chroma-epsilon", args->vq.chroma_epsilon, "Absolute tolerance of the chromaticity (R/Y, B/Y) per light")
       ->capture_default_str()
       ->check(CLI::Range(kVqMinChromaEpsilon, 1.0f));
+  cmd->add_option("--energy-floor", args->vq.energy_floor,
+                  "Absolute floor of the tolerance, in RMS norms of a vector's batch: vectors darker than it get "
+                  "epsilon times the floor rather than epsilon times their own norm (0: purely relative)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")
       ->capture_default_str()
       ->check(CLI::Range(1, 3));
