@@ -355,7 +355,8 @@ class Compressor {
     chroma_.resize(T * kBtfRingCount);
     entries_.assign(T * kBtfRingCount, 0);
     scales_.assign(T * kBtfRingCount, 0);
-    for (std::size_t t = 0; t < T; ++t) scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount], precision_.scale_shift);
+    for (std::size_t t = 0; t < T; ++t)
+      scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount], precision_.scale_shift);
     // The chroma codebooks of the six rings and the level-1 codebooks of rings 1..5 are independent
     // (each job reads the view and writes only its own codebook and ring slots): they run as
     // parallel jobs, each deterministic on its own, so their sequential parts overlap. Largest first.
