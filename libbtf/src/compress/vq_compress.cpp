@@ -34,8 +34,8 @@
 //   same radius; candidates (8 nearest within 1.5x the radius) are verified on the full
 //   81 x 81 reconstruction through the level-2 entries' dot products, and on the texel's
 //   chromaticity as a whole (vq_btf.h). (The texel's mean chromaticity appended to the key, so
-//   that the 8 candidates are not texels of another ink, saved only 2.4 % of the level-3 entries
-//   on the printed BTF at 64 x 64: left out.)
+//   that the 8 candidates are not texels of another ink, saved few level-3 entries on the printed
+//   BTF (README): left out.)
 // Rings without light (all zero) skip the chromaticity check: their colour is never seen.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -605,11 +605,10 @@ class Compressor {
           for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v], precision_.scale_shift);
           return addLevel3Entry(&view_index_[t * V], rel);
         },
-        // Exact: the bounded search missed reusable texels (on the calibrated 256 x 256 print at
-        // epsilon 0.2, 16,056 entries rather than 14,097: ratio_u8 198.5 against 217.0). Its cost
-        // grows as texels x entries, quadratic where the bounded one is linear; at 256 x 256 the
-        // whole compression took 108 s against 106. Far larger BTFs would want a bound of a few
-        // hundred visits.
+        // Exact: the bounded search missed reusable texels on the calibrated print (README). Its
+        // cost grows as texels x entries, quadratic where the bounded one is linear, but at
+        // 256 x 256 texels it adds little to the whole compression. Far larger BTFs would want a
+        // bound of a few hundred visits.
         0);
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);

@@ -41,7 +41,7 @@ inline float decodeVqEntryValue(std::uint16_t q) { return float(q) * (1.0f / 655
 // scale codes and new level-1 values to multiples of 2^shift, the coarsest power of two whose
 // rounding stays within kVqQuantizationShare * epsilon relative: a scale's rounding scales its
 // whole vector by at most 2^(step / 2) - 1, and a new unit level-1 entry moves by at most
-// sqrt(n) step / 2 (n <= 24 values). The byte-planar sections (vq_io.cpp) then hold zero or
+// sqrt(n) step / 2 (n values, at most the largest ring's). The byte-planar sections (vq_io.cpp) then hold zero or
 // near-constant low planes, which zstd stores in almost nothing. Decoders read the codes as
 // before: the precision is the encoder's choice, not part of the format. A sixteenth of the
 // tolerance was the knee of the trade (README, "stored precision").
@@ -55,8 +55,9 @@ inline VqPrecision vqPrecisionFor(float epsilon) {
   VqPrecision p;
   // Scale codes: step 2^shift / 1024 in log2; 2^(step / 2) - 1 <= budget.
   while (p.scale_shift < 10 && std::exp2(std::exp2(p.scale_shift + 1) / 2048.0) - 1.0 <= budget) ++p.scale_shift;
-  // Level-1 values: step 2^shift / 65535; sqrt(24) step / 2 <= budget (24: the largest ring).
-  while (p.value_shift < 12 && std::sqrt(24.0) * std::exp2(p.value_shift + 1) / (2.0 * 65535.0) <= budget) ++p.value_shift;
+  // Level-1 values: step 2^shift / 65535; sqrt(n) step / 2 <= budget, n the largest ring's size.
+  const double n = *std::max_element(kBtfRingSizes.begin(), kBtfRingSizes.end());
+  while (p.value_shift < 12 && std::sqrt(n) * std::exp2(p.value_shift + 1) / (2.0 * 65535.0) <= budget) ++p.value_shift;
   return p;
 }
 
