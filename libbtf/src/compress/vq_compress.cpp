@@ -151,15 +151,18 @@ double rmsOf(std::size_t n, F&& norm_of) {
 // is a plain VqBtf (books and material are then the same Impl: they write disjoint fields).
 class Compressor {
  public:
-  Compressor(const VqOptions& options, VqBtf::Impl& books) : options_(options), books_(books) {
-    for (int r = 0; r < kBtfRingCount; ++r) l1_.emplace_back(btfRingSize(r));
+  // `bases`: the level-1 ring bases (vqRingBasesFor), empty for value-by-value rings.
+  Compressor(const VqOptions& options, VqBtf::Impl& books, std::vector<VqRingBasis> bases)
+      : options_(options), books_(books) {
+    for (int r = 0; r < kBtfRingCount; ++r) {
+      l1_.emplace_back(btfRingSize(r));
+      if (std::size_t(r) < bases.size()) books_.l1_basis[std::size_t(r)] = std::move(bases[std::size_t(r)]);
+    }
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
     // uniform light slice (level 2) and, per material, the uniform texel (level 3).
     for (int r = 0; r < kBtfRingCount; ++r) {
-      const float c = 1.0f / std::sqrt(float(btfRingSize(r)));
-      std::vector<float> entry(std::size_t(btfRingSize(r)), decodeVqEntryValue(encodeVqEntryValue(c)));
-      l1_[std::size_t(r)].add(entry);
-      books_.l1[std::size_t(r)].assign(std::size_t(btfRingSize(r)), encodeVqEntryValue(c));
+      const std::vector<float> constant(std::size_t(btfRingSize(r)), 1.0f / std::sqrt(float(btfRingSize(r))));
+      l1_[std::size_t(r)].add(storeLevel1Entry(r, constant, 0.0, 0));
     }
     const float step = vqChromaStep(options.chroma_epsilon);
     const std::int32_t grey = std::int32_t(std::lround(1.0 / double(step)));
@@ -387,6 +390,29 @@ class Compressor {
     }
   }
 
+  // Appends a level-1 entry for the unit function u of ring r to the stored codebook and returns
+  // the values the file will decode: u itself rounded to multiples of 2^value_shift, or, in a
+  // basis-coded ring, the reconstruction of its leading coefficients (dropping a tail of energy
+  // <= budget^2; the basis's step stands for the shift).
+  std::vector<float> storeLevel1Entry(int r, std::span<const float> u, double budget, int value_shift) {
+    const std::size_t n = u.size();
+    const VqRingBasis& basis = books_.l1_basis[std::size_t(r)];
+    std::vector<std::uint16_t>& codes = books_.l1[std::size_t(r)];
+    const std::size_t first = codes.size();
+    codes.resize(first + n);
+    if (basis.empty()) {
+      for (std::size_t a = 0; a < n; ++a) codes[first + a] = encodeVqEntryValue(u[a], value_shift);
+    } else {
+      std::vector<std::int32_t>& coefficients = books_.l1_coef[std::size_t(r)];
+      coefficients.resize(first + n);
+      vqBasisCoefficients(basis, u, budget, &coefficients[first]);
+      vqBasisCodes(basis, &coefficients[first], &codes[first]);
+    }
+    std::vector<float> entry(n);
+    for (std::size_t a = 0; a < n; ++a) entry[a] = decodeVqEntryValue(codes[first + a]);
+    return entry;
+  }
+
   // Level-1 codes of ring r >= 1 for all texels of the view.
   void quantizeLevel1(int r) {
     const std::size_t T = texels_;
@@ -397,20 +423,17 @@ class Compressor {
     const double rms = ring_rms_[std::size_t(r)];
     auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
     std::vector<std::int64_t> match = initialMatches(T, lit);
-    std::vector<float> entry(static_cast<std::size_t>(n));
     quantizeBatch(
         book, match,
         [&](std::size_t t, const Codebook::SearchOptions& options) {
           return firstPassing(book, unit(t), radius(t), 1, options, [](std::uint32_t) { return true; });
         },
         [&](std::size_t t) -> std::int64_t {
-          const auto u = unit(t);
-          for (int a = 0; a < n; ++a) {
-            const std::uint16_t q = encodeVqEntryValue(u[std::size_t(a)], precision_.value_shift);
-            books_.l1[std::size_t(r)].push_back(q);
-            entry[std::size_t(a)] = decodeVqEntryValue(q);
-          }
-          return book.add(entry);
+          // A basis-coded entry may drop coefficients worth its tolerance less the quantization
+          // share (vq_basis.h), so that with the rounding it stays within the tolerance.
+          const double budget = std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
+                                                  kVqQuantizationShare * double(options_.epsilon));
+          return book.add(storeLevel1Entry(r, unit(t), budget, precision_.value_shift));
         });
     parallelFor(T, [&](std::size_t t) {
       const std::size_t k = t * kBtfRingCount + std::size_t(r);
@@ -680,13 +703,24 @@ std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptio
   return impl;
 }
 
+// The level-1 ring bases (vq_basis.h), learned from the source's first view; none at epsilon 0,
+// where every value is kept as it is.
+std::vector<VqRingBasis> vqRingBasesFor(const BtfSource& source, const VqOptions& options) {
+  if (!(options.epsilon > 0.0f)) return {};
+  std::vector<Rgb> view;
+  source.loadView(source.views().view(0), view);
+  if (view.size() != source.texelCount() * kBtfDirectionCount)
+    throw Error(source.name() + ": view " + std::to_string(source.views().view(0)) + " has the wrong number of values");
+  return learnVqRingBases(view, source.texelCount(), float(std::exp2(vqPrecisionFor(options.epsilon).value_shift) / 65535.0));
+}
+
 }  // namespace
 
 VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   checkVqOptions(options);
   const auto start = std::chrono::steady_clock::now();
   auto impl = materialImpl(source, options, source.name() + " (vq)");
-  inArena(options.threads, [&] { Compressor(options, *impl).run(source, *impl); });
+  inArena(options.threads, [&] { Compressor(options, *impl, vqRingBasesFor(source, options)).run(source, *impl); });
   VqBtf::Impl* const material = impl.get();
   pruneVqCodebooks(*impl, std::span(&material, 1));
   impl->prepare("compressVq");
@@ -713,7 +747,7 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
   std::vector<std::shared_ptr<VqBtf::Impl>> impls;
   for (std::size_t i = 0; i < sources.size(); ++i) impls.push_back(materialImpl(*sources[i], options, names[i]));
   inArena(options.threads, [&] {
-    Compressor compressor(options, books);
+    Compressor compressor(options, books, vqRingBasesFor(*sources.front(), options));
     for (std::size_t i = 0; i < sources.size(); ++i) compressor.run(*sources[i], *impls[i]);
   });
   std::vector<VqBtf::Impl*> pointers;
@@ -722,6 +756,8 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
   std::vector<VqBtf> materials;
   for (auto& impl : impls) {
     impl->l1 = books.l1;
+    impl->l1_basis = books.l1_basis;
+    impl->l1_coef = books.l1_coef;
     impl->chroma = books.chroma;
     impl->l2_index = books.l2_index;
     impl->l2_scale = books.l2_scale;

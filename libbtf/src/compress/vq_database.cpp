@@ -20,13 +20,11 @@ namespace btf {
 
 namespace {
 
-constexpr int kDatabaseVersion = 1;
-
 std::string materialPrefix(std::size_t i) { return "material" + std::to_string(i) + "/"; }
 
 bool sameShared(const VqBtf::Impl& a, const VqBtf::Impl& b) {
-  return a.l1 == b.l1 && a.chroma == b.chroma && a.l2_index == b.l2_index && a.l2_scale == b.l2_scale &&
-         a.l2_chroma == b.l2_chroma;
+  return a.l1 == b.l1 && a.l1_basis == b.l1_basis && a.l1_coef == b.l1_coef && a.chroma == b.chroma &&
+         a.l2_index == b.l2_index && a.l2_scale == b.l2_scale && a.l2_chroma == b.l2_chroma;
 }
 bool sameOptions(const VqOptions& a, const VqOptions& b) {
   return a.levels == b.levels && a.epsilon == b.epsilon && a.chroma_epsilon == b.chroma_epsilon &&
@@ -45,6 +43,8 @@ std::vector<std::size_t> sharedEntriesOf(const VqBtf::Impl& m) {
 }
 void copyShared(const VqBtf::Impl& from, VqBtf::Impl& to) {
   to.l1 = from.l1;
+  to.l1_basis = from.l1_basis;
+  to.l1_coef = from.l1_coef;
   to.chroma = from.chroma;
   to.l2_index = from.l2_index;
   to.l2_scale = from.l2_scale;
@@ -55,7 +55,7 @@ std::vector<ContainerSection> databaseSections(const std::vector<VqBtf>& materia
   const VqBtf::Impl& first = materials.front().impl();
   nlohmann::json header = vqOptionsHeader(first);
   header["format"] = kVqDatabaseFormat;
-  header["format_version"] = kDatabaseVersion;
+  header["format_version"] = vqSectionsVersion(first);
   header["codebook_entries"] = sharedEntriesOf(first);
   nlohmann::json list = nlohmann::json::array();
   for (const VqBtf& material : materials) {
@@ -175,9 +175,9 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   nlohmann::json list;
   try {
     const int version = header.at("format_version").get<int>();
-    if (version != kDatabaseVersion)
+    if (version < 1 || version > kVqNewestSectionsVersion)
       throw FileError(path, "VQ database format version " + std::to_string(version) +
-                                " is not supported (this build reads " + std::to_string(kDatabaseVersion) + ")");
+                                " is not supported (this build reads 1.." + std::to_string(kVqNewestSectionsVersion) + ")");
     list = header.at("materials");
   } catch (const nlohmann::json::exception& e) {
     throw FileError(path, std::string("VQ database header is invalid: ") + e.what());
@@ -265,6 +265,17 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
     l1.emplace_back(books.l1[std::size_t(r)], std::size_t(btfRingSize(r)));
     chroma.emplace_back(books.chroma[std::size_t(r)], 2 * std::size_t(btfRingSize(r)));
   }
+  // A ring stays basis-coded only where every part has the same basis (parts compressed alone learn
+  // their own): then each merged entry keeps the coefficients it came with. Elsewhere the merged
+  // ring stores its values one by one, which decodes to the same codes.
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const VqRingBasis& basis = parts.front().materials().front().impl().l1_basis[std::size_t(r)];
+    bool common = !basis.empty();
+    for (const VqDatabase& part : parts) {
+      common = common && part.materials().front().impl().l1_basis[std::size_t(r)] == basis;
+    }
+    if (common) books.l1_basis[std::size_t(r)] = basis;
+  }
   std::vector<std::uint32_t> l2_key_book;  // (index, scale, chroma) per ring, as one entry
   EntryInterner<std::uint32_t> l2(l2_key_book, 3 * kBtfRingCount);
   std::vector<std::shared_ptr<VqBtf::Impl>> impls;
@@ -273,7 +284,14 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
     std::array<std::vector<std::uint32_t>, kBtfRingCount> l1_map, chroma_map;
     for (int r = 0; r < kBtfRingCount; ++r) {
       const std::size_t n = std::size_t(btfRingSize(r));
-      for (std::size_t e = 0; e < src.l1Count(r); ++e) l1_map[std::size_t(r)].push_back(l1[std::size_t(r)].intern(&src.l1[std::size_t(r)][e * n]));
+      for (std::size_t e = 0; e < src.l1Count(r); ++e) {
+        const std::size_t before = books.l1[std::size_t(r)].size();
+        l1_map[std::size_t(r)].push_back(l1[std::size_t(r)].intern(&src.l1[std::size_t(r)][e * n]));
+        if (!books.l1_basis[std::size_t(r)].empty() && books.l1[std::size_t(r)].size() > before) {
+          const auto from = src.l1_coef[std::size_t(r)].begin() + std::ptrdiff_t(e * n);
+          books.l1_coef[std::size_t(r)].insert(books.l1_coef[std::size_t(r)].end(), from, from + std::ptrdiff_t(n));
+        }
+      }
       for (std::size_t c = 0; c < src.chromaCount(r); ++c)
         chroma_map[std::size_t(r)].push_back(chroma[std::size_t(r)].intern(&src.chroma[std::size_t(r)][c * 2 * n]));
     }

@@ -11,6 +11,7 @@
 
 #include "btf/compress/vq_btf.h"
 #include "btf/core/btf_directions.h"
+#include "vq_basis.h"
 
 namespace btf {
 
@@ -76,6 +77,11 @@ struct VqBtf::Impl {
 
   // Level 1: per ring, entries of btfRingSize(ring) values (ring 0: the single entry {1}).
   std::array<std::vector<std::uint16_t>, kBtfRingCount> l1;
+  // Rings coded in a learned basis (vq_basis.h): the basis and each entry's coefficients (entry-
+  // major, btfRingSize(ring) per entry), whose reconstruction l1 holds; both empty for rings stored
+  // value by value.
+  std::array<VqRingBasis, kBtfRingCount> l1_basis;
+  std::array<std::vector<std::int32_t>, kBtfRingCount> l1_coef;
   // Chromaticity codebooks, per ring: entries of btfRingSize(ring) pairs (i, j), the grid
   // coordinates of (R/Y, B/Y) = (i, j) * vqChromaStep(chroma_epsilon) at each light azimuth.
   std::array<std::vector<std::int32_t>, kBtfRingCount> chroma;

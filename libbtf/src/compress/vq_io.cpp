@@ -1,4 +1,5 @@
-// VqBtf in .btfz (io/container.h). Sections: "header" (JSON), "level1/ring<r>", "chroma/ring<r>",
+// VqBtf in .btfz (io/container.h). Sections: "header" (JSON), "level1/ring<r>" (and
+// "level1/basis<r>" for a basis-coded ring, vq_basis.h), "chroma/ring<r>",
 // "level2/{index,scale,chroma}", "level3/{index,scale}", "top/{index,scale,chroma}" (those the level
 // count uses). Integer streams are stored byte-planar (all lowest bytes, then the next...) in the
 // fewest bytes their largest value needs (the first byte of a section says how many): indices into
@@ -22,7 +23,6 @@ namespace btf {
 
 namespace {
 
-constexpr int kFormatVersion = 1;
 
 template <class T>
 std::vector<std::byte> packPlanar(const std::vector<T>& values) {
@@ -59,7 +59,7 @@ std::vector<T> unpackPlanar(const ContainerSection& s, const std::filesystem::pa
 std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   nlohmann::json header = vqOptionsHeader(m);
   header["format"] = "libbtf-vq";
-  header["format_version"] = kFormatVersion;
+  header["format_version"] = vqSectionsVersion(m);
   header["width"] = m.width;
   header["height"] = m.height;
   header["name"] = m.name;
@@ -104,9 +104,38 @@ nlohmann::json vqOptionsHeader(const VqBtf::Impl& m) {
   return header;
 }
 
+int vqSectionsVersion(const VqBtf::Impl& m) {
+  for (const VqRingBasis& basis : m.l1_basis)
+    if (!basis.empty()) return 2;
+  return 1;
+}
+
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections) {
-  for (int r = 0; r < kBtfRingCount; ++r)
-    addVqSection(sections, SectionType::Codebook, "level1/ring" + std::to_string(r), packPlanar(m.l1[std::size_t(r)]));
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const std::string ring = "level1/ring" + std::to_string(r);
+    const VqRingBasis& basis = m.l1_basis[std::size_t(r)];
+    if (basis.empty()) {
+      addVqSection(sections, SectionType::Codebook, ring, packPlanar(m.l1[std::size_t(r)]));
+      continue;
+    }
+    // "level1/basis<r>": the coefficient step, then the n x n basis, float32. The ring's section
+    // holds the coefficients, zigzag-coded, coefficient-major (every entry's first coefficient,
+    // then every entry's second...): the dropped tails become long runs of zeros for zstd.
+    std::vector<float> floats{basis.step};
+    floats.insert(floats.end(), basis.v.begin(), basis.v.end());
+    std::vector<std::byte> bytes(floats.size() * sizeof(float));
+    std::memcpy(bytes.data(), floats.data(), bytes.size());
+    addVqSection(sections, SectionType::Codebook, "level1/basis" + std::to_string(r), std::move(bytes));
+    const std::vector<std::int32_t>& c = m.l1_coef[std::size_t(r)];
+    const std::size_t n = std::size_t(basis.n), entries = c.size() / n;
+    std::vector<std::uint32_t> zigzag(c.size());
+    for (std::size_t e = 0; e < entries; ++e)
+      for (std::size_t j = 0; j < n; ++j) {
+        const std::int32_t k = c[e * n + j];
+        zigzag[j * entries + e] = k >= 0 ? 2u * std::uint32_t(k) : 2u * std::uint32_t(-(k + 1)) + 1u;
+      }
+    addVqSection(sections, SectionType::Codebook, ring, packPlanar(zigzag));
+  }
   for (int r = 0; r < kBtfRingCount; ++r)
     addVqSection(sections, SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
   if (m.options.levels >= 2) {
@@ -203,8 +232,40 @@ void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, co
 }
 
 void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m) {
-  for (int r = 0; r < kBtfRingCount; ++r)
-    m.l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(vqSection(sections, "level1/ring" + std::to_string(r), path), path);
+  for (int r = 0; r < kBtfRingCount; ++r) {
+    const std::string ring = "level1/ring" + std::to_string(r), basis_name = "level1/basis" + std::to_string(r);
+    const auto basis_section =
+        std::find_if(sections.begin(), sections.end(), [&](const ContainerSection& s) { return s.name == basis_name; });
+    if (basis_section == sections.end()) {
+      m.l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(vqSection(sections, ring, path), path);
+      continue;
+    }
+    const std::size_t n = std::size_t(btfRingSize(r));
+    if (r == 0 || basis_section->data.size() != (1 + n * n) * sizeof(float))
+      throw FileError(path, "section " + basis_name + " is not a step and a " + std::to_string(n) + " x " +
+                                std::to_string(n) + " basis");
+    std::vector<float> floats(1 + n * n);
+    std::memcpy(floats.data(), basis_section->data.data(), basis_section->data.size());
+    VqRingBasis& basis = m.l1_basis[std::size_t(r)];
+    basis.n = int(n);
+    basis.step = floats[0];
+    basis.v.assign(floats.begin() + 1, floats.end());
+    if (!(basis.step > 0.0f) || !std::isfinite(basis.step) ||
+        !std::all_of(basis.v.begin(), basis.v.end(), [](float x) { return std::isfinite(x) && std::abs(x) <= 1.0f; }))
+      throw FileError(path, "section " + basis_name + " holds a step or basis value out of range");
+    const std::vector<std::uint32_t> zigzag = unpackPlanar<std::uint32_t>(vqSection(sections, ring, path), path);
+    if (zigzag.size() % n != 0) throw FileError(path, "section " + ring + " does not hold whole entries");
+    const std::size_t entries = zigzag.size() / n;
+    std::vector<std::int32_t>& c = m.l1_coef[std::size_t(r)];
+    c.resize(zigzag.size());
+    for (std::size_t e = 0; e < entries; ++e)
+      for (std::size_t j = 0; j < n; ++j) {
+        const std::uint32_t z = zigzag[j * entries + e];
+        c[e * n + j] = (z & 1u) ? -std::int32_t(z >> 1) - 1 : std::int32_t(z >> 1);
+      }
+    m.l1[std::size_t(r)].resize(zigzag.size());
+    for (std::size_t e = 0; e < entries; ++e) vqBasisCodes(basis, &c[e * n], &m.l1[std::size_t(r)][e * n]);
+  }
   for (int r = 0; r < kBtfRingCount; ++r)
     m.chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(vqSection(sections, "chroma/ring" + std::to_string(r), path), path);
   if (m.options.levels >= 2) {
@@ -284,9 +345,9 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
   auto m = std::make_shared<VqBtf::Impl>();
   try {
     const int version = header.at("format_version").get<int>();
-    if (version != kFormatVersion)
-      throw FileError(path, "VQ format version " + std::to_string(version) + " is not supported (this build reads " +
-                                std::to_string(kFormatVersion) + ")");
+    if (version < 1 || version > kVqNewestSectionsVersion)
+      throw FileError(path, "VQ format version " + std::to_string(version) + " is not supported (this build reads 1.." +
+                                std::to_string(kVqNewestSectionsVersion) + ")");
     m->width = vqHeaderInt(header, "width", path);
     m->height = vqHeaderInt(header, "height", path);
     m->name = header.at("name").get<std::string>();

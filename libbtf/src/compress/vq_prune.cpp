@@ -74,6 +74,7 @@ void pruneVqCodebooks(VqBtf::Impl& books, std::span<VqBtf::Impl* const> material
     });
     const auto to1 = renumbering(used1), to_c = renumbering(used_c);
     compact(books.l1[ring], n, to1);
+    if (!books.l1_coef[ring].empty()) compact(books.l1_coef[ring], n, to1);
     compact(books.chroma[ring], 2 * n, to_c);
     visit([&](std::uint32_t& e, std::uint32_t& c) {
       e = to1[e];

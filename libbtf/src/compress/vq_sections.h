@@ -1,6 +1,7 @@
 // The .btfz sections of VQ-compressed BTFs (private to src/compress/), shared by the single-material
 // files (vq_io.cpp) and the databases of materials with shared codebooks (vq_database.cpp):
-//   shared:       "level1/ring<r>", "chroma/ring<r>", "level2/{index,scale,chroma}"
+//   shared:       "level1/ring<r>" (and "level1/basis<r>" for a basis-coded ring), "chroma/ring<r>",
+//                 "level2/{index,scale,chroma}"
 //   per material: PREFIX "level3/{index,scale}", PREFIX "top/{index,scale,chroma}" (those the level
 //                 count uses; PREFIX is "" in a single-material file, "material<i>/" in a database)
 #pragma once
@@ -30,6 +31,11 @@ void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std
 void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections);
 // Header keys of the options and the chroma grid (both formats).
 nlohmann::json vqOptionsHeader(const VqBtf::Impl& m);
+// Format version of the sections (both formats): 2 when a level-1 ring is basis-coded (vq_basis.h:
+// "level1/basis<r>" and coefficients in "level1/ring<r>", which a version-1 reader would misread),
+// else 1, as files were before. Readers take 1..kVqNewestSectionsVersion.
+inline constexpr int kVqNewestSectionsVersion = 2;
+int vqSectionsVersion(const VqBtf::Impl& m);
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections);
 void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections);
 // The zstd level the writer uses for these sections, and the file size they will make.
