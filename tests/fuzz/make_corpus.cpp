@@ -158,6 +158,11 @@ void btfz(const fs::path& out) {
   const btf::BtfSource* sources[] = {&a, &b};
   btf::compressVqDatabase(sources, {"a", "b"}, options).write(scratch);
   put(out / "database.btfz", bytesOf(scratch));
+  // 12 x 12 texels: enough lit vectors for ring 1's level-1 basis (vq_basis.h), so the reader's
+  // basis and coefficient sections are reached.
+  options.levels = 1;
+  btf::compressVq(makeBtf(12, 12, btf::BtfViewSet({0}), "basis"), options).write(scratch);
+  put(out / "basis-12x12.btfz", bytesOf(scratch));
   fs::remove(scratch);
 }
 

@@ -40,8 +40,9 @@ const btf::BtfData& print48() {
   return btf.full;
 }
 
-btf::VqOptions options(float epsilon, int levels) {
+btf::VqOptions options(float epsilon, int levels, bool cut = true) {
   btf::VqOptions o;
+  o.level1_cut = cut;
   o.epsilon = epsilon;
   o.chroma_epsilon = 0.1f;
   o.levels = levels;
@@ -166,6 +167,17 @@ TEST(VqBasis, CompressedFilesUseItKeepTheBoundAndReadBackExactly) {
     }
     EXPECT_EQ(std::filesystem::file_size(path), vq.stats().compressed_bytes);
   }
+  // Without the cut every entry keeps its coefficients (whether the cut pays is the data's matter:
+  // README); both stay within the bound.
+  const btf::VqBtf uncut = btf::compressVq(print48(), options(0.1f, 1, false));
+  const btf::VqBtf cut = btf::compressVq(print48(), options(0.1f, 1, true));
+  std::size_t uncut_zeros = 0, cut_zeros = 0;
+  for (int r = 1; r < btf::kBtfRingCount; ++r) {
+    for (std::int32_t k : uncut.impl().l1_coef[std::size_t(r)]) uncut_zeros += k == 0;
+    for (std::int32_t k : cut.impl().l1_coef[std::size_t(r)]) cut_zeros += k == 0;
+  }
+  EXPECT_GT(cut_zeros, 2 * uncut_zeros);
+  EXPECT_LE(btf::test::luminanceRelRmse(print48(), uncut), btf::test::vqLuminanceBound(0.1f, 1));
   // Epsilon 0 keeps every value as it is: no basis.
   const btf::VqBtf exact = btf::compressVq(print48(), options(0.0f, 1));
   for (int r = 0; r < btf::kBtfRingCount; ++r) EXPECT_TRUE(exact.impl().l1_basis[std::size_t(r)].empty());

@@ -50,6 +50,7 @@ struct Args {
   // curve flattens at large epsilon (fabric 32 x 32, chroma 0.01: ratio_u8 5.8 at epsilon 0.3, 6.3 at
   // 0.6). 0.5 gives the library's default pair at epsilon 0.02 (chroma 0.01).
   float chroma_scale = 0.5f;
+  bool level1_cut = false;  // VqOptions::level1_cut for every VQ row
   bool quick = false;
   bool brdfs = true;
   std::string inputs;  // measured BTF image folders, comma-separated
@@ -126,8 +127,9 @@ float chromaEpsilonFor(float epsilon, float chroma_scale) {
 }
 
 Row measureVq(const BtfSource& source, const std::string& material, float epsilon, float chroma_epsilon, int levels,
-              const std::filesystem::path& scratch) {
+              bool level1_cut, const std::filesystem::path& scratch) {
   VqOptions options;
+  options.level1_cut = level1_cut;
   options.epsilon = epsilon;
   options.chroma_epsilon = chroma_epsilon;
   options.levels = levels;
@@ -308,7 +310,7 @@ void benchMaterial(const Args& args, const std::string& name, const BtfSource& s
   for (int l : levels)
     for (float e : epsilons) {
       const float ce = chromaEpsilonFor(e, args.chroma_scale);
-      Row r = measureVq(source, name, e, ce, l, std::filesystem::path(args.output) / (name + ".part.btfz"));
+      Row r = measureVq(source, name, e, ce, l, args.level1_cut, std::filesystem::path(args.output) / (name + ".part.btfz"));
       finish(r, source, noise);
       vq_bytes.push_back(r.bytes);
       std::printf("%-8s vq  levels %d eps %-7g chroma %-7g ratio_u8 %8.1f rel_rmse %.4f display %.4f ssim %.4f  %6.1f s  "
@@ -392,6 +394,9 @@ void addBenchCompressionCommand(CLI::App& bench) {
   cmd->add_option("--size", args->size, "Texels per side")->capture_default_str()->check(CLI::Range(4, 1024));
   cmd->add_option("--seed", args->seed, "Generator seed")->capture_default_str();
   cmd->add_option("--epsilons", args->epsilons, "VQ tolerances")->delimiter(',')->capture_default_str();
+  cmd->add_flag("--level1-cut", args->level1_cut,
+               "VQ rows store new level-1 entries as only the leading principal coefficients their tolerance needs "
+               "(btf compress --level1-cut)");
   cmd->add_option("--chroma-scale", args->chroma_scale,
                   "Chromaticity tolerance per unit of epsilon (chroma_epsilon = scale * epsilon, at least 0.001)")
       ->capture_default_str()

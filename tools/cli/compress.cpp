@@ -78,6 +78,7 @@ void runCompress(const CompressArgs& args) {
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"energy_floor", args.vq.energy_floor},
+                        {"level1_cut", args.vq.level1_cut},
                         {"levels", args.vq.levels},
                         {"codebook_entries", compressed.stats().codebook_entries},
                         {"bytes", bytes},
@@ -130,6 +131,7 @@ void runCompressDatabase(const CompressArgs& args) {
                         {"epsilon", args.vq.epsilon},
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"energy_floor", args.vq.energy_floor},
+                        {"level1_cut", args.vq.level1_cut},
                         {"levels", args.vq.levels},
                         {"shared_codebook_entries", database.sharedEntries()},
                         {"bytes", bytes},
@@ -245,6 +247,9 @@ void registerCompressCommands(CLI::App& app) {
                   "epsilon times the floor rather than epsilon times their own norm (0: purely relative)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--level1-cut", args->vq.level1_cut,
+               "Store each new level-1 entry as only the leading principal coefficients its tolerance needs: "
+               "smaller files at equal error on noisy measured data, more entries on clean synthetic data");
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")
       ->capture_default_str()
       ->check(CLI::Range(1, 3));

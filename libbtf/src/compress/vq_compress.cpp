@@ -429,10 +429,12 @@ class Compressor {
           return firstPassing(book, unit(t), radius(t), 1, options, [](std::uint32_t) { return true; });
         },
         [&](std::size_t t) -> std::int64_t {
-          // A basis-coded entry may drop coefficients worth its tolerance less the quantization
-          // share (vq_basis.h), so that with the rounding it stays within the tolerance.
-          const double budget = std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
-                                                  kVqQuantizationShare * double(options_.epsilon));
+          // With level1_cut, a basis-coded entry may drop coefficients worth its tolerance less the
+          // quantization share (vq_basis.h), so that with the rounding it stays within the tolerance.
+          const double budget =
+              options_.level1_cut ? std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
+                                                      kVqQuantizationShare * double(options_.epsilon))
+                                  : 0.0;
           return book.add(storeLevel1Entry(r, unit(t), budget, precision_.value_shift));
         });
     parallelFor(T, [&](std::size_t t) {
