@@ -14,6 +14,7 @@
 namespace btf::test {
 namespace {
 using testing::HasSubstr;
+using testing::Not;
 namespace fs = std::filesystem;
 
 TEST(CompressCli, FolderRoundTripReportsTheFilesOwnErrorAndRatio) {
@@ -72,6 +73,30 @@ TEST(CompressCli, EnergyFloorReachesTheFile) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.output, HasSubstr("--energy-floor"));
   EXPECT_FALSE(fs::exists(refused));
+}
+
+// --level1-cut reaches the library and the report: the file then carries level-1 bases (16 x 16
+// texels: enough for ring 1's), and without it none, as files were before.
+TEST(CompressCli, Level1CutReachesTheReportAndTheFile) {
+  TempDir dir;
+  const fs::path folder = dir / "fabric";
+  ASSERT_EQ(runDatagen({"btf", "--pattern", "fabric", "--size", "16", "--seed", "2", "--format", "exr", "-o",
+                        folder.string()}).exit_code, 0);
+  for (const bool cut : {false, true}) {
+    const fs::path packed = dir / (cut ? "cut.btfz" : "plain.btfz");
+    std::vector<std::string> args = {"compress", folder.string(), packed.string(), "--epsilon", "0.1", "--levels", "1", "--json"};
+    if (cut) args.push_back("--level1-cut");
+    const CommandResult c = runBtf(args);
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    EXPECT_EQ(parseJsonOutput(c)["level1_cut"].get<bool>(), cut);
+    const CommandResult info = runBtf({"info", packed.string()});
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    if (cut) {
+      EXPECT_THAT(info.output, HasSubstr("level1/basis1"));
+    } else {
+      EXPECT_THAT(info.output, Not(HasSubstr("level1/basis")));
+    }
+  }
 }
 
 // The real measured slice (one view, Bonn naming, 8-bit sRGB JPEG) through info, compress and

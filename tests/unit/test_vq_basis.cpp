@@ -167,17 +167,18 @@ TEST(VqBasis, CompressedFilesUseItKeepTheBoundAndReadBackExactly) {
     }
     EXPECT_EQ(std::filesystem::file_size(path), vq.stats().compressed_bytes);
   }
-  // Without the cut every entry keeps its coefficients (whether the cut pays is the data's matter:
-  // README); both stay within the bound.
-  const btf::VqBtf uncut = btf::compressVq(print48(), options(0.1f, 1, false));
+  // Without level1_cut the entries are stored value by value (files as before), and with it the
+  // cut leaves many coefficients zero (44 % on this print at epsilon 0.1).
+  const btf::VqBtf plain = btf::compressVq(print48(), options(0.1f, 1, false));
   const btf::VqBtf cut = btf::compressVq(print48(), options(0.1f, 1, true));
-  std::size_t uncut_zeros = 0, cut_zeros = 0;
+  std::size_t coefficients = 0, zeros = 0;
   for (int r = 1; r < btf::kBtfRingCount; ++r) {
-    for (std::int32_t k : uncut.impl().l1_coef[std::size_t(r)]) uncut_zeros += k == 0;
-    for (std::int32_t k : cut.impl().l1_coef[std::size_t(r)]) cut_zeros += k == 0;
+    EXPECT_TRUE(plain.impl().l1_basis[std::size_t(r)].empty()) << "ring " << r;
+    EXPECT_TRUE(plain.impl().l1_coef[std::size_t(r)].empty()) << "ring " << r;
+    coefficients += cut.impl().l1_coef[std::size_t(r)].size();
+    for (std::int32_t k : cut.impl().l1_coef[std::size_t(r)]) zeros += k == 0;
   }
-  EXPECT_GT(cut_zeros, 2 * uncut_zeros);
-  EXPECT_LE(btf::test::luminanceRelRmse(print48(), uncut), btf::test::vqLuminanceBound(0.1f, 1));
+  EXPECT_GT(zeros, coefficients / 4);
   // Epsilon 0 keeps every value as it is: no basis.
   const btf::VqBtf exact = btf::compressVq(print48(), options(0.0f, 1));
   for (int r = 0; r < btf::kBtfRingCount; ++r) EXPECT_TRUE(exact.impl().l1_basis[std::size_t(r)].empty());

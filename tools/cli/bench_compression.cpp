@@ -395,7 +395,7 @@ void addBenchCompressionCommand(CLI::App& bench) {
   cmd->add_option("--seed", args->seed, "Generator seed")->capture_default_str();
   cmd->add_option("--epsilons", args->epsilons, "VQ tolerances")->delimiter(',')->capture_default_str();
   cmd->add_flag("--level1-cut", args->level1_cut,
-               "VQ rows store new level-1 entries as only the leading principal coefficients their tolerance needs "
+               "VQ rows code level-1 entries in a principal basis, cut to what their tolerance needs "
                "(btf compress --level1-cut)");
   cmd->add_option("--chroma-scale", args->chroma_scale,
                   "Chromaticity tolerance per unit of epsilon (chroma_epsilon = scale * epsilon, at least 0.001)")

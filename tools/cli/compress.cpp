@@ -248,8 +248,8 @@ void registerCompressCommands(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--level1-cut", args->vq.level1_cut,
-               "Store each new level-1 entry as only the leading principal coefficients its tolerance needs: "
-               "smaller files at equal error on noisy measured data, more entries on clean synthetic data");
+               "Code level-1 entries in a principal basis of their ring, each cut to the leading coefficients its "
+               "tolerance needs: smaller files at equal error on noisy measured data, larger on clean synthetic data");
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")
       ->capture_default_str()
       ->check(CLI::Range(1, 3));

@@ -429,12 +429,10 @@ class Compressor {
           return firstPassing(book, unit(t), radius(t), 1, options, [](std::uint32_t) { return true; });
         },
         [&](std::size_t t) -> std::int64_t {
-          // With level1_cut, a basis-coded entry may drop coefficients worth its tolerance less the
+          // A basis-coded entry (level1_cut) may drop coefficients worth its tolerance less the
           // quantization share (vq_basis.h), so that with the rounding it stays within the tolerance.
-          const double budget =
-              options_.level1_cut ? std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
-                                                      kVqQuantizationShare * double(options_.epsilon))
-                                  : 0.0;
+          const double budget = std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
+                                                  kVqQuantizationShare * double(options_.epsilon));
           return book.add(storeLevel1Entry(r, unit(t), budget, precision_.value_shift));
         });
     parallelFor(T, [&](std::size_t t) {
@@ -705,10 +703,10 @@ std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptio
   return impl;
 }
 
-// The level-1 ring bases (vq_basis.h), learned from the source's first view; none at epsilon 0,
-// where every value is kept as it is.
+// The level-1 ring bases (vq_basis.h), learned from the source's first view: only with
+// level1_cut, and none at epsilon 0, where every value is kept as it is.
 std::vector<VqRingBasis> vqRingBasesFor(const BtfSource& source, const VqOptions& options) {
-  if (!(options.epsilon > 0.0f)) return {};
+  if (!options.level1_cut || !(options.epsilon > 0.0f)) return {};
   std::vector<Rgb> view;
   source.loadView(source.views().view(0), view);
   if (view.size() != source.texelCount() * kBtfDirectionCount)

@@ -76,10 +76,11 @@ struct VqOptions {
   float energy_floor = 1.0f;     // >= 0: the absolute floor of the tolerance, in batch RMS norms
   int levels = 3;                // 1, 2 or 3
   int threads = 0;               // 0: TBB's default; the output does not depend on it
-  // Store each new level-1 entry as only the leading coefficients of its ring's principal basis
-  // that its tolerance needs (src/compress/vq_basis.h), not as the full vector: on noisy measured
-  // data the dropped tail is mostly noise and files shrink at equal error; on clean data it moves
-  // entries off the data and costs entries (README). Off: entries keep every coefficient.
+  // Code level-1 entries in a principal basis of their ring learned from the first view, each cut
+  // to the leading coefficients its tolerance needs (src/compress/vq_basis.h): on noisy measured
+  // data the dropped tail is mostly noise and files shrink at equal error; on clean data the cut
+  // moves entries off the data and the coefficients code worse than the values (README). Off:
+  // entries are stored value by value, as files were before.
   bool level1_cut = false;
 };
 
