@@ -11,6 +11,8 @@
 // vector that later reuses it is judged against what the file will decode. This is transform coding
 // of the codebook, as PCA codes the data, but per entry and only as deep as each entry needs.
 //
+// Used only with VqOptions::level1_cut: on clean data the coefficients code worse than the values
+// and the cut moves entries off the data (README), so by default entries stay value by value.
 // The basis is learned from the first view the compressor sees and written to the file in float32
 // ("level1/basis<r>"); the ring's section then holds coefficients instead of values. The codes a
 // lookup reads are the same 16-bit values as before (decoded once, on reading), so decoding speed
