@@ -23,7 +23,6 @@ namespace btf {
 
 namespace {
 
-
 template <class T>
 std::vector<std::byte> packPlanar(const std::vector<T>& values) {
   using U = std::make_unsigned_t<T>;
@@ -121,11 +120,10 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
     // "level1/basis<r>": the coefficient step, then the n x n basis, float32. The ring's section
     // holds the coefficients, zigzag-coded, coefficient-major (every entry's first coefficient,
     // then every entry's second...): the dropped tails become long runs of zeros for zstd.
-    std::vector<float> floats{basis.step};
-    floats.insert(floats.end(), basis.v.begin(), basis.v.end());
-    std::vector<std::byte> bytes(floats.size() * sizeof(float));
-    std::memcpy(bytes.data(), floats.data(), bytes.size());
-    addVqSection(sections, SectionType::Codebook, "level1/basis" + std::to_string(r), std::move(bytes));
+    ByteWriter bytes;
+    bytes.put(basis.step);
+    bytes.putAll(basis.v);
+    addVqSection(sections, SectionType::Codebook, "level1/basis" + std::to_string(r), std::move(bytes.bytes()));
     const std::vector<std::int32_t>& c = m.l1_coef[std::size_t(r)];
     const std::size_t n = std::size_t(basis.n), entries = c.size() / n;
     std::vector<std::uint32_t> zigzag(c.size());
@@ -244,12 +242,11 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
     if (r == 0 || basis_section->data.size() != (1 + n * n) * sizeof(float))
       throw FileError(path, "section " + basis_name + " is not a step and a " + std::to_string(n) + " x " +
                                 std::to_string(n) + " basis");
-    std::vector<float> floats(1 + n * n);
-    std::memcpy(floats.data(), basis_section->data.data(), basis_section->data.size());
+    ByteReader in(*basis_section, path);
     VqRingBasis& basis = m.l1_basis[std::size_t(r)];
     basis.n = int(n);
-    basis.step = floats[0];
-    basis.v.assign(floats.begin() + 1, floats.end());
+    basis.step = in.get<float>();
+    basis.v = in.getVector<float>(n * n);
     if (!(basis.step > 0.0f) || !std::isfinite(basis.step) ||
         !std::all_of(basis.v.begin(), basis.v.end(), [](float x) { return std::isfinite(x) && std::abs(x) <= 1.0f; }))
       throw FileError(path, "section " + basis_name + " holds a step or basis value out of range");
