@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -134,25 +136,50 @@ TEST_P(RglMaterial, SampleAgreesWithPdfAndEval) {
   }
 }
 
-TEST_P(RglMaterial, EvalManyIsEvalBitForBit) {
-  // The stream eval sets wo's warps up once; every wi must still get eval()'s floats exactly,
-  // including wi below the horizon (0) and, for wo below it, all zeros.
-  const btf::RglBrdf& m = material(GetParam());
+// wi for the stream eval: random directions over the sphere (half below the horizon), then the
+// cases where lanes and the scalar path could part: the mirror direction (m at the pole, the pole
+// guard), wi = wo, wi on and just above the horizon, wi of other lengths, and wi whose half vector
+// lies on every node line of the VNDF grid (cell borders of the inverse warp and the NDF). 2,003 in
+// all with the grid, so the last few go through the scalar tail.
+std::vector<glm::vec3> streamDirections(const btf::RglBrdf& m, const glm::vec3& wo) {
   btf::Rng rng(11, 0);
-  std::vector<glm::vec3> wi(2'000);
+  std::vector<glm::vec3> wi(1'000);
   for (glm::vec3& w : wi) w = btf::squareToUniformSphere(rng.uniform2D());
-  std::vector<Rgb> out(wi.size());
+  const glm::vec3 mirror(-wo.x, -wo.y, wo.z);
+  for (const glm::vec3& w : {mirror, wo, glm::vec3(0.6f, 0.8f, 0.0f), glm::vec3(0.6f, 0.8f, -0.0f),
+                             glm::vec3(0.6f, -0.8f, 1e-7f), 3.0f * mirror, 1e-3f * wo, glm::vec3(0.0f, 0.0f, 1.0f)})
+    wi.push_back(w);
+  const int n = m.vndfResolution();
+  const float phi_o = std::atan2(wo.y, wo.x);
+  for (int i = 0; wi.size() < 2'003; ++i) {
+    const float u_x = float(i % n) / float(n - 1), u_y = float((i / n) % n) / float(n - 1);
+    const glm::vec3 h = btf::sphericalDirection(u_x * u_x * btf::kHalfPi, u_y * btf::kTwoPi - btf::kPi + phi_o);
+    wi.push_back(2.0f * glm::dot(wo, h) * h - wo);
+  }
+  return wi;
+}
+
+TEST_P(RglMaterial, EvalManyIsEvalBitForBit) {
+  // The stream eval sets wo's warps up once and runs eight wi per step in AVX2 lanes where the CPU
+  // has them; every wi must still get eval()'s floats exactly (compared as bits, so -0 against +0
+  // and NaN count), including wi below the horizon (0) and, for wo below it, all zeros.
+  const btf::RglBrdf& m = material(GetParam());
   std::vector<glm::vec3> views = viewDirections();
   views.push_back(btf::sphericalDirection(glm::radians(120.0f), 1.0f));
   for (const glm::vec3& wo : views) {
+    const std::vector<glm::vec3> wi = streamDirections(m, wo);
+    std::vector<Rgb> out(wi.size());
     m.evalMany(wo, wi, out);
     for (std::size_t k = 0; k < wi.size(); ++k) {
       const Rgb single = m.eval(wi[k], wo);
-      for (int c = 0; c < 3; ++c) ASSERT_EQ(out[k][c], single[c]) << "wo.z " << wo.z << " wi " << k << " channel " << c;
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(out[k][c]), std::bit_cast<std::uint32_t>(single[c]))
+            << "wo.z " << wo.z << " wi " << k << " (" << wi[k].x << ", " << wi[k].y << ", " << wi[k].z << ") channel "
+            << c << ": " << out[k][c] << " against " << single[c];
     }
   }
   std::vector<Rgb> short_out(3);
-  EXPECT_THROW(m.evalMany(views[1], wi, short_out), btf::Error);
+  EXPECT_THROW(m.evalMany(views[1], streamDirections(m, views[1]), short_out), btf::Error);
 }
 
 TEST_P(RglMaterial, DrawsAtThePoleAndFromTinyUniformsKeepTheContract) {

@@ -6,6 +6,7 @@
 #include <span>
 
 #include "btf/core/error.h"
+#include "btf/core/fast_atan.h"
 #include "btf/core/math.h"
 
 namespace btf {
@@ -113,10 +114,19 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 }
 
 RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
-  const float theta_o = sphericalTheta(wo), phi_o = std::atan2(wo.y, wo.x);
+  // Angles through fastAtan2Turns as in halfVectorUnit: every query sets wo up, and std::atan2
+  // took a tenth of an eval here.
+  const float theta_o = kTwoPi * fastAtan2Turns(std::sqrt(wo.x * wo.x + wo.y * wo.y), wo.z);
+  const float phi_o_turns = fastAtan2Turns(wo.y, wo.x), phi_o = kTwoPi * phi_o_turns;
   const float params[1] = {theta_o};
   const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
-  return {theta_o, phi_o, u_o, vndf_.fixed(params), rgb_.fixedLeading(params), jacobian_ ? sigma_.eval(u_o) : 1.0f};
+  return {theta_o,
+          phi_o,
+          phi_o_turns,
+          u_o,
+          vndf_.fixed(params),
+          rgb_.fixedLeading(params),
+          jacobian_ ? sigma_.eval(u_o) : 1.0f};
 }
 
 BilinearWarp2D::Fixed RglBrdf::luminanceAt(const Outgoing& o) const {
@@ -134,23 +144,32 @@ Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, const Outgoing& o) 
   return f;
 }
 
-RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
-                                     const BilinearWarp2D::Fixed* luminance) const {
-  InverseMap r;
-  const glm::vec3 m = glm::normalize(wi + wo);
+glm::vec2 RglBrdf::halfVectorUnit(const glm::vec3& m, const Outgoing& o) {
+  const float r = std::sqrt(m.x * m.x + m.y * m.y);
+  // theta_m / (2 pi) is in [0, 1/2] (r >= 0), so theta_m (2 / pi) = 4 turns needs no clamp at 0.
+  const float theta_turns = fastAtan2Turns(r, m.z);
+  float u_y = fastAtan2Turns(m.y, m.x) - o.phi_o_turns + 0.5f;
+  u_y -= std::floor(u_y);  // relative azimuths span (-1, 1) turns; wrap onto [0, 1)
   // At the pole of m (u_m.x = 0, the mirror direction) the files' VNDF density over the square is
   // 0, so the mirror direction that a draw with u.x = 0 lands on would get pdf 0 and be dropped.
   // The warps are evaluated at u_m.x >= 1e-4 instead (theta_m >= 1.6e-8 rad, where they hold
   // ~1e-8 of their mass): the pdf stays positive and continuous up to the pole.
   constexpr float kPoleGuard = 1e-4f;
-  r.u_m = glm::vec2(std::max(thetaToUnit(sphericalTheta(m)), kPoleGuard), phiToUnit(std::atan2(m.y, m.x) - o.phi_o));
+  return {std::max(std::sqrt(theta_turns * 4.0f), kPoleGuard), u_y};
+}
+
+RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
+                                     const BilinearWarp2D::Fixed* luminance) const {
+  InverseMap r;
+  const glm::vec3 m = glm::normalize(wi + wo);
+  r.u_m = halfVectorUnit(m, o);
   if (!luminance) {
     r.s = o.vndf.invert(r.u_m).p;
     return r;
   }
   const auto [s, vndf_pdf] = o.vndf.invert(r.u_m);
   r.s = s;
-  const float jacobian = unitToSolidAngleJacobian(r.u_m.x, std::hypot(m.x, m.y)) * 4.0f * glm::dot(wo, m);
+  const float jacobian = unitToSolidAngleJacobian(r.u_m.x, std::sqrt(m.x * m.x + m.y * m.y)) * 4.0f * glm::dot(wo, m);
   const float pdf = jacobian > 0.0f ? vndf_pdf * luminance->eval(s) / jacobian : 0.0f;
   r.pdf = std::isfinite(pdf) ? pdf : 0.0f;
   return r;
@@ -175,7 +194,7 @@ void RglBrdf::evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::
     return;
   }
   const Outgoing o = outgoing(wo);
-  for (std::size_t k = 0; k < wi.size(); ++k) out[k] = evalWith(wi[k], wo, o);
+  for (std::size_t k = evalLanes(wo, o, wi, out); k < wi.size(); ++k) out[k] = evalWith(wi[k], wo, o);
 }
 
 std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {

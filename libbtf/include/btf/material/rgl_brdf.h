@@ -54,7 +54,8 @@ class RglBrdf final : public Material {
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
-  // wo's angles, unit coordinates, warp slices and projected area are found once for all wi.
+  // wo's angles, unit coordinates, warp slices and projected area are found once for all wi, and
+  // eight wi run per step in AVX2 lanes where the CPU has them: eval()'s floats bit for bit.
   void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
                 glm::vec2 uv = {}) const override;
   std::string name() const override;
@@ -72,6 +73,7 @@ class RglBrdf final : public Material {
   // its wi); the luminance warp only the queries that need a pdf.
   struct Outgoing {
     float theta_o, phi_o;
+    float phi_o_turns;  // fastAtan2Turns(wo.y, wo.x), which m's azimuth is taken relative to
     glm::vec2 u_o;
     BilinearWarp2D::Fixed vndf, rgb;
     float sigma;  // only with jacobian_
@@ -83,6 +85,9 @@ class RglBrdf final : public Material {
   // (wi, wo) through the inverse maps: m's unit coordinates, the VNDF square point s, and (given
   // the luminance warp at wo) the solid-angle density of sample(), 0 where it is not finite. eval,
   // pdf and sample all go through it, so that they agree exactly.
+  // m's unit coordinates: theta_m through a square root, phi_m relative to wo's. The angles come
+  // from fastAtan2Turns, not std::atan2, which took a quarter of an eval (perf).
+  static glm::vec2 halfVectorUnit(const glm::vec3& m, const Outgoing& o);
   struct InverseMap {
     glm::vec2 s{0.0f}, u_m{0.0f};
     float pdf = 0.0f;
@@ -90,6 +95,10 @@ class RglBrdf final : public Material {
   InverseMap mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
                      const BilinearWarp2D::Fixed* luminance) const;
   Rgb evalWith(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o) const;
+  // evalWith for the leading multiple of 8 of wi in AVX2 lanes (rgl_eval_lanes.cpp), the same
+  // floats; returns how many it did (0 without AVX2).
+  std::size_t evalLanes(const glm::vec3& wo, const Outgoing& o, std::span<const glm::vec3> wi,
+                        std::span<Rgb> out) const;
 
   std::string stem_;
   std::string description_;

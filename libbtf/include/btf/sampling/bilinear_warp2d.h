@@ -85,6 +85,7 @@ class BilinearWarp2D {
 
    private:
     friend class BilinearWarp2D;
+    friend struct BilinearWarp2DLanes;  // the same queries in AVX2 lanes (src/sampling/)
     Fixed(const BilinearWarp2D& warp, const SliceBlend& blend) : warp_(&warp), blend_(blend) {}
     const BilinearWarp2D* warp_;
     SliceBlend blend_;
@@ -100,6 +101,7 @@ class BilinearWarp2D {
   static float blended(const std::vector<float>& values, std::size_t stride, std::size_t index,
                        const SliceBlend& blend);
   void buildDistribution(std::size_t slice);
+  friend struct BilinearWarp2DLanes;
 
   int width_ = 0, height_ = 0;
   Mode mode_ = Mode::Interpolant;
