@@ -139,8 +139,8 @@ TEST_P(RglMaterial, SampleAgreesWithPdfAndEval) {
 // wi for the stream eval: random directions over the sphere (half below the horizon), then the
 // cases where lanes and the scalar path could part: the mirror direction (m at the pole, the pole
 // guard), wi = wo, wi on and just above the horizon, wi of other lengths, and wi whose half vector
-// lies on every node line of the VNDF grid (cell borders of the inverse warp and the NDF). 2,003 in
-// all with the grid, so the last few go through the scalar tail.
+// lies on nodes of the VNDF grid (cell borders of the inverse warp and the NDF; row by row, as
+// many rows as fill 2,003 wi in all, so the last few go through the scalar tail).
 std::vector<glm::vec3> streamDirections(const btf::RglBrdf& m, const glm::vec3& wo) {
   btf::Rng rng(11, 0);
   std::vector<glm::vec3> wi(1'000);
@@ -180,6 +180,23 @@ TEST_P(RglMaterial, EvalManyIsEvalBitForBit) {
   }
   std::vector<Rgb> short_out(3);
   EXPECT_THROW(m.evalMany(views[1], streamDirections(m, views[1]), short_out), btf::Error);
+}
+
+TEST_P(RglMaterial, OppositeDirectionsAtTheHorizonGiveFiniteValuesInBothPaths) {
+  // wi + wo too short to normalize in float (its squared length underflows): the half vector
+  // comes out NaN/inf. Its unit coordinates fall back to the pole guard and 0, so eval stays
+  // finite and does not index the tables with a NaN; the lanes (9 wi: 8 in lanes, 1 in the tail)
+  // give the same bits.
+  const btf::RglBrdf& m = material(GetParam());
+  const glm::vec3 wo(1.0f, 1e-30f, 1e-30f), wi(-1.0f, 1e-30f, 1e-30f);
+  const Rgb single = m.eval(wi, wo);
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(single[c])) << c;
+  EXPECT_TRUE(std::isfinite(m.pdf(wi, wo)));
+  const std::vector<glm::vec3> wis(9, wi);
+  std::vector<Rgb> many(wis.size());
+  m.evalMany(wo, wis, many);
+  for (const Rgb& v : many)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(std::bit_cast<std::uint32_t>(v[c]), std::bit_cast<std::uint32_t>(single[c]));
 }
 
 TEST_P(RglMaterial, DrawsAtThePoleAndFromTinyUniformsKeepTheContract) {

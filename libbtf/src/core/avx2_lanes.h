@@ -3,10 +3,10 @@
 // operation of the library, including what it returns for NaN and for -0 against +0, so that a
 // lane gives the scalar path's bits.
 //
-// Every function is compiled for "avx2" alone, not "fma": with FMA enabled the compiler would fuse
-// a multiply and an add into one rounding, and the lanes would no longer round as the scalar code
-// does (the library is built with -ffp-contract=off for the same reason). Callers check
-// cpuHasAvx2() before entering a BTF_AVX2 function.
+// No multiply and add may fuse into one rounding, or the lanes would no longer round as the scalar
+// code does: the intrinsics name each operation, the functions enable "avx2" alone (not "fma"),
+// and the library is built with -ffp-contract=off, which also holds where -march enables FMA.
+// Callers check cpuHasAvx2() before entering a BTF_AVX2 function.
 #pragma once
 
 #include <immintrin.h>

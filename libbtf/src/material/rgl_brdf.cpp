@@ -116,7 +116,7 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
   // Angles through fastAtan2Turns as in halfVectorUnit: every query sets wo up, and std::atan2
   // took a tenth of an eval here.
-  const float theta_o = kTwoPi * fastAtan2Turns(std::sqrt(wo.x * wo.x + wo.y * wo.y), wo.z);
+  const float theta_o = kTwoPi * fastAtan2Turns(std::hypot(wo.x, wo.y), wo.z);
   const float phi_o_turns = fastAtan2Turns(wo.y, wo.x), phi_o = kTwoPi * phi_o_turns;
   const float params[1] = {theta_o};
   const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
@@ -154,8 +154,12 @@ glm::vec2 RglBrdf::halfVectorUnit(const glm::vec3& m, const Outgoing& o) {
   // 0, so the mirror direction that a draw with u.x = 0 lands on would get pdf 0 and be dropped.
   // The warps are evaluated at u_m.x >= 1e-4 instead (theta_m >= 1.6e-8 rad, where they hold
   // ~1e-8 of their mass): the pdf stays positive and continuous up to the pole.
+  // The operands go kPoleGuard first so that a NaN (m from a wi + wo too short to normalize, e.g.
+  // wi and wo opposite just above the horizon) becomes the guard; a NaN u_y becomes 0. The
+  // lookups then stay finite, where the old NaN made eval NaN.
   constexpr float kPoleGuard = 1e-4f;
-  return {std::max(std::sqrt(theta_turns * 4.0f), kPoleGuard), u_y};
+  if (!(u_y >= 0.0f)) u_y = 0.0f;
+  return {std::max(kPoleGuard, std::sqrt(theta_turns * 4.0f)), u_y};
 }
 
 RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,

@@ -27,6 +27,7 @@ struct EvalTables {
 // evalWith(wi, wo, o) for wi[0 .. 8).
 BTF_AVX2 void evalEight(const EvalTables& t, const glm::vec3& wo, const glm::vec3* wi, Rgb* out) {
   // glm::vec3 is three packed floats: lane k's components sit 3 k floats apart.
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
   const __m256i at = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
   const float* first = &wi[0].x;
   const Vec3 w{_mm256_i32gather_ps(first, at, 4), _mm256_i32gather_ps(first + 1, at, 4),
@@ -39,7 +40,8 @@ BTF_AVX2 void evalEight(const EvalTables& t, const glm::vec3& wo, const glm::vec
   const __m256 theta_turns = atan2Turns(r, m.z);
   __m256 u_y = _mm256_add_ps(_mm256_sub_ps(atan2Turns(m.y, m.x), _mm256_set1_ps(t.phi_o_turns)), _mm256_set1_ps(0.5f));
   u_y = _mm256_sub_ps(u_y, _mm256_floor_ps(u_y));
-  const __m256 u_x = stdMax(_mm256_sqrt_ps(_mm256_mul_ps(theta_turns, _mm256_set1_ps(4.0f))), _mm256_set1_ps(1e-4f));
+  u_y = _mm256_and_ps(u_y, _mm256_cmp_ps(u_y, _mm256_setzero_ps(), _CMP_GE_OQ));  // !(u_y >= 0): 0
+  const __m256 u_x = stdMax(_mm256_set1_ps(1e-4f), _mm256_sqrt_ps(_mm256_mul_ps(theta_turns, _mm256_set1_ps(4.0f))));
 
   // reflectanceTimesCos(vndf.invert(u_m).p, u_m) / wi.z.
   __m256 sx, sy;

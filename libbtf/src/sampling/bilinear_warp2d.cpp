@@ -34,15 +34,19 @@ float solveLinearCdf(float d0, float d1, float mass) {
 float lerp(float a, float b, float t) { return (1.0f - t) * a + t * b; }
 
 // The cell of a width x height node grid that p falls in (its lower-left node) and p's position
-// within it, for p in [0,1]^2; p = 1 lies in the last cell at t = 1.
+// within it, for p in [0,1]^2; p = 1 lies in the last cell at t = 1. A NaN coordinate (a query
+// direction too degenerate to normalize) reads cell 0 and gives a NaN position instead of
+// converting NaN to int, which is undefined and read far outside the tables; the AVX2 lanes
+// (bilinear_warp2d_lanes.h) do the same.
 struct GridCell {
   int col, row;
   float tx, ty;
 };
 GridCell cellOf(glm::vec2 p, int width, int height) {
-  const int col = std::min(static_cast<int>(p.x * (width - 1)), width - 2);
-  const int row = std::min(static_cast<int>(p.y * (height - 1)), height - 2);
-  return {col, row, p.x * (width - 1) - col, p.y * (height - 1) - row};
+  const float x = p.x * (width - 1), y = p.y * (height - 1);
+  const int col = x >= 0.0f ? std::min(static_cast<int>(x), width - 2) : 0;
+  const int row = y >= 0.0f ? std::min(static_cast<int>(y), height - 2) : 0;
+  return {col, row, x - col, y - row};
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 // code's (bilinear_warp2d.cpp) operation for operation, so that a lane returns the scalar query's
 // bits (see core/avx2_lanes.h). For stream calls built on the warps: an RGL file's evalMany.
 //
-// The points must be in [0, 1]^2 or NaN; cell indices are additionally clamped to the grid, so a
-// NaN point reads a valid cell (its result is NaN or arbitrary, where the scalar cast is undefined).
+// The points are clamped to [0, 1]^2 as the scalar queries clamp them; a NaN coordinate reads cell
+// 0 at a NaN position, as the scalar cellOf does.
 #pragma once
 
 #include <cstdint>

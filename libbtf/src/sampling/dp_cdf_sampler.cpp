@@ -303,13 +303,34 @@ BTF_ALWAYS_INLINE std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sa
   const glm::vec3 wi = glm::normalize(q.fromBinFrame(*wi_bin));
   // The pdf of wi as pdf() computes it: the shortcut when (s, t) is well inside its grid cell
   // (then the round trip through wi lands in the same cell, row and segments), else pdf()'s path.
-  // Half maps always take pdf()'s path: the reflection and the half vector's renormalization
-  // make a longer round trip, and the Jacobian depends on wi.
+  // Half maps always take pdf()'s path back onto the square (the reflection and the half vector's
+  // renormalization make a longer round trip, and the Jacobian depends on wi), but not its
+  // searches where wi's cell lies in the drawn row and segments: there they would find the drawn
+  // segments (the DP lanes do the same).
   float p;
-  if (!half && wellInside(gs, kCellMargin * float(nu_)) && wellInside(gt, kCellMargin * float(nv_)))
-    p = pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_);
-  else
-    p = DpCdfSampler::pdfQuery(q, wi);
+  if (!half) {
+    if (wellInside(gs, kCellMargin * float(nu_)) && wellInside(gt, kCellMargin * float(nv_)))
+      p = pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_);
+    else
+      p = DpCdfSampler::pdfQuery(q, wi);
+  } else {
+    // pdfQuery(q, wi), its bin known to be non-empty.
+    const std::optional<SquarePoint> back = wi.z > 0.0f ? incomingToSquare(q.toBinFrame(wi), q.wo) : std::nullopt;
+    if (!back) {
+      p = 0.0f;
+    } else {
+      // pdfImpl's cell.
+      const int back_row = std::min(int(back->st.x * float(nu_)), nu_ - 1);
+      const int back_col = std::min(int(back->st.y * float(nv_)), nv_ - 1);
+      auto inSegment = [](const Segment<Key>& seg, int cell) {
+        return float(cell) >= seg.x0 && float(cell) < seg.x0 + seg.dx;
+      };
+      const float v = back_row == row && inSegment(seg_s, back_row) && inSegment(seg_t, back_col)
+                          ? pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_)
+                          : pdfImpl<Key, Node>(q.bin, back->st);
+      p = v * (kTwoPi * back->to_solid_angle);
+    }
+  }
   if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
   return DirectionSample{wi, p};
 }

@@ -12,13 +12,14 @@ namespace btf {
 // [0, 1] as a * P(a^2), P interpolating atan(sqrt(z)) / (2 pi sqrt(z)) at the 9 Chebyshev nodes of
 // z in [0, 1] (|error| < 1e-8 turns, about one float ulp of the result; evaluated by Estrin's
 // scheme, half the dependent multiply-adds of Horner's), then the octant's symmetries. For hot
-// paths where std::atan2 dominates: table lookups and the samplers' cell search (there sample()
+// paths where std::atan2 dominates: table lookups, an RGL file's eval, and the samplers' cell
+// search (there sample()
 // returns pdf's own value, so the two still agree exactly; the approximation moves cell
 // boundaries by ~1 ulp, as float rounding does).
 inline float fastAtan2Turns(float y, float x) {
   const float ax = std::abs(x), ay = std::abs(y);
   const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
-  if (!(hi > 0.0f)) return 0.0f;  // atan2(+-0, +-0): phi = 0, as at the pole; NaN y too (NaN x gives NaN)
+  if (!(hi > 0.0f)) return 0.0f;  // atan2(+-0, +-0): phi = 0, as at the pole; NaN y too (NaN x, inf / inf give NaN)
   const float a = lo / hi, z = a * a, z2 = z * z, z4 = z2 * z2;
   const float p01 = 0.159154937f - 0.0530511774f * z, p23 = 0.0318180509f - 0.0225964971f * z;
   const float p45 = 0.0168996621f - 0.0118679535f * z, p67 = 0.00670641102f - 0.00250370614f * z;
