@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "btf/core/btf_directions.h"
@@ -48,7 +50,7 @@ std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::siz
 
 void vqBasisCoefficients(const VqRingBasis& basis, std::span<const float> u, double budget, std::int32_t* coefficients) {
   const int n = basis.n;
-  std::vector<double> c(static_cast<std::size_t>(n), 0.0);
+  std::array<double, std::ranges::max(kBtfRingSizes)> c{};  // n <= the largest ring
   for (int a = 0; a < n; ++a)
     for (int j = 0; j < n; ++j)
       c[std::size_t(j)] += double(basis.v[std::size_t(a) * std::size_t(n) + std::size_t(j)]) * double(u[std::size_t(a)]);

@@ -393,8 +393,10 @@ class Compressor {
   // Appends a level-1 entry for the unit function u of ring r to the stored codebook and returns
   // the values the file will decode: u itself rounded to multiples of 2^value_shift, or, in a
   // basis-coded ring, the reconstruction of its leading coefficients (dropping a tail of energy
-  // <= budget^2; the basis's step stands for the shift).
-  std::vector<float> storeLevel1Entry(int r, std::span<const float> u, double budget, int value_shift) {
+  // <= budget^2; the basis's step stands for the shift). The values live in ring r's buffer, which
+  // the ring's next call reuses: a ring's entries are created one at a time (quantizeBatch's
+  // sequential pass), while the rings run as parallel jobs.
+  std::span<const float> storeLevel1Entry(int r, std::span<const float> u, double budget, int value_shift) {
     const std::size_t n = u.size();
     const VqRingBasis& basis = books_.l1_basis[std::size_t(r)];
     std::vector<std::uint16_t>& codes = books_.l1[std::size_t(r)];
@@ -408,7 +410,8 @@ class Compressor {
       vqBasisCoefficients(basis, u, budget, &coefficients[first]);
       vqBasisCodes(basis, &coefficients[first], &codes[first]);
     }
-    std::vector<float> entry(n);
+    std::vector<float>& entry = level1_entry_[std::size_t(r)];
+    entry.resize(n);
     for (std::size_t a = 0; a < n; ++a) entry[a] = decodeVqEntryValue(codes[first + a]);
     return entry;
   }
@@ -651,6 +654,7 @@ class Compressor {
   std::size_t texels_ = 0;
   std::size_t views_ = 0;  // held by the source; per-view streams are indexed by slot (btf_view_set.h)
   std::vector<Codebook> l1_;
+  std::array<std::vector<float>, kBtfRingCount> level1_entry_;  // storeLevel1Entry's result, per ring
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;
   std::vector<Codebook> chroma_books_;  // per ring, decoded chroma functions (2 n values)

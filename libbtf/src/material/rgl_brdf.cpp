@@ -121,7 +121,6 @@ RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
   const float params[1] = {theta_o};
   const glm::vec2 u_o(thetaToUnit(theta_o), phiToUnit(phi_o));
   return {theta_o,
-          phi_o,
           phi_o_turns,
           u_o,
           vndf_.fixed(params),
@@ -207,7 +206,7 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
   const BilinearWarp2D::Fixed luminance = luminanceAt(o);
   const glm::vec2 s = luminance.sample(u).p;
   const glm::vec2 u_m = o.vndf.sample(s).p;
-  const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + o.phi_o);
+  const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + kTwoPi * o.phi_o_turns);
   const float wo_dot_m = glm::dot(wo, m);
   if (wo_dot_m <= 0.0f) return std::nullopt;  // back-facing m: interpolation leaked past the horizon
   const glm::vec3 wi = 2.0f * wo_dot_m * m - wo;

@@ -245,10 +245,15 @@ DpCdfSampler::DpCdfSampler(std::shared_ptr<const Material> material, const Sampl
 }
 
 template <class Key, class Node>
-BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st) const {
+BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st, const DrawnCells* drawn) const {
   // st in [0, 1)^2 (checked by the callers); the cells as rowOf would give them, with 32-bit
   // conversions (a float -> size_t conversion is a branchy sequence on x86-64).
   const int row = std::min(int(st.x * float(nu_)), nu_ - 1), col = std::min(int(st.y * float(nv_)), nv_ - 1);
+  // In the drawn row, the row's conditional is the drawn one; countLe finds the segment holding a
+  // cell, so for cells in both drawn spans the searches below would return the drawn segments.
+  if (drawn && row == drawn->row && float(row) >= drawn->s_x0 && float(row) < drawn->s_x0 + drawn->s_dx &&
+      float(col) >= drawn->t_x0 && float(col) < drawn->t_x0 + drawn->t_dx)
+    return drawn->density;
   const Key* q = keys<Key>();
   const std::uint32_t* starts = starts_.data() + bin * (std::size_t(nu_) + 1);
   const std::uint32_t ms = starts[0], ns = starts[1] - ms, mt = starts[1 + row], nt = starts[2 + row] - mt;
@@ -260,13 +265,15 @@ BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st) con
   return pdfOf(s.dq, s.dx, t.dq, t.dx, pdf_scale_);
 }
 
-float DpCdfSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const {
+float DpCdfSampler::pdfQuery(const BinQuery& q, const glm::vec3& wi) const { return pdfQueryNear(q, wi, nullptr); }
+
+float DpCdfSampler::pdfQueryNear(const BinQuery& q, const glm::vec3& wi, const DrawnCells* drawn) const {
   // The same steps as the generic BinnedSampler::pdfQuery + pdfInBin, without the virtual calls.
   if (!(wi.z > 0.0f)) return 0.0f;
   const std::optional<SquarePoint> p = incomingToSquare(q.toBinFrame(wi), q.wo);
   if (!p || empty_[q.bin]) return 0.0f;
-  const float v =
-      withTableTypes([&](auto key, auto node) { return pdfImpl<decltype(key), decltype(node)>(q.bin, p->st); });
+  const float v = withTableTypes(
+      [&](auto key, auto node) { return pdfImpl<decltype(key), decltype(node)>(q.bin, p->st, drawn); });
   // pdf_scale_ holds Incident's 1 / (2 pi); Half's factor is 1 / (16 pi r^2 wo.h).
   return parameterization() == Parameterization::Half ? v * (kTwoPi * p->to_solid_angle) : v;
 }
@@ -302,34 +309,17 @@ BTF_ALWAYS_INLINE std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sa
   if (!wi_bin) return std::nullopt;  // a half vector whose reflection is below the horizon
   const glm::vec3 wi = glm::normalize(q.fromBinFrame(*wi_bin));
   // The pdf of wi as pdf() computes it: the shortcut when (s, t) is well inside its grid cell
-  // (then the round trip through wi lands in the same cell, row and segments), else pdf()'s path.
-  // Half maps always take pdf()'s path back onto the square (the reflection and the half vector's
-  // renormalization make a longer round trip, and the Jacobian depends on wi), but not its
-  // searches where wi's cell lies in the drawn row and segments: there they would find the drawn
-  // segments (the DP lanes do the same).
+  // (then the round trip through wi lands in the same cell, row and segments), else pdf()'s path,
+  // which skips its searches where wi's cell lies in the drawn row and segments. Half maps always
+  // take pdf()'s path: the reflection and the half vector's renormalization make a longer round
+  // trip, and the Jacobian depends on wi.
+  const float density = pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_);
   float p;
-  if (!half) {
-    if (wellInside(gs, kCellMargin * float(nu_)) && wellInside(gt, kCellMargin * float(nv_)))
-      p = pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_);
-    else
-      p = DpCdfSampler::pdfQuery(q, wi);
+  if (!half && wellInside(gs, kCellMargin * float(nu_)) && wellInside(gt, kCellMargin * float(nv_))) {
+    p = density;
   } else {
-    // pdfQuery(q, wi), its bin known to be non-empty.
-    const std::optional<SquarePoint> back = wi.z > 0.0f ? incomingToSquare(q.toBinFrame(wi), q.wo) : std::nullopt;
-    if (!back) {
-      p = 0.0f;
-    } else {
-      // pdfImpl's cell.
-      const int back_row = std::min(int(back->st.x * float(nu_)), nu_ - 1);
-      const int back_col = std::min(int(back->st.y * float(nv_)), nv_ - 1);
-      auto inSegment = [](const Segment<Key>& seg, int cell) {
-        return float(cell) >= seg.x0 && float(cell) < seg.x0 + seg.dx;
-      };
-      const float v = back_row == row && inSegment(seg_s, back_row) && inSegment(seg_t, back_col)
-                          ? pdfOf(seg_s.dq, seg_s.dx, seg_t.dq, seg_t.dx, pdf_scale_)
-                          : pdfImpl<Key, Node>(q.bin, back->st);
-      p = v * (kTwoPi * back->to_solid_angle);
-    }
+    const DrawnCells drawn{row, seg_s.x0, seg_s.dx, seg_t.x0, seg_t.dx, density};
+    p = pdfQueryNear(q, wi, &drawn);
   }
   if (!(p > 0.0f)) return std::nullopt;  // only on a boundary of a zero-density cell
   return DirectionSample{wi, p};

@@ -72,8 +72,8 @@ class RglBrdf final : public Material {
   // theta_o, and the projected area sigma(wo). Every query sets it up once (evalMany once for all
   // its wi); the luminance warp only the queries that need a pdf.
   struct Outgoing {
-    float theta_o, phi_o;
-    float phi_o_turns;  // fastAtan2Turns(wo.y, wo.x), which m's azimuth is taken relative to
+    float theta_o;
+    float phi_o_turns;  // wo's azimuth / (2 pi) (fastAtan2Turns), which m's azimuth is taken relative to
     glm::vec2 u_o;
     BilinearWarp2D::Fixed vndf, rgb;
     float sigma;  // only with jacobian_

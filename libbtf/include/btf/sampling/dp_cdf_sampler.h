@@ -78,8 +78,18 @@ class DpCdfSampler final : public BinnedSampler {
   LaneTables laneTables() const;
   template <class Key, class Node>
   std::optional<DirectionSample> sampleImpl(const BinQuery& q, glm::vec2 u) const;
+  // A draw's row, the grid-cell spans [x0, x0 + dx) of its two segments and their density: where
+  // pdf()'s searches for a cell in that row and those spans would find the same segments.
+  struct DrawnCells {
+    int row;
+    float s_x0, s_dx, t_x0, t_dx;
+    float density;
+  };
+  // The density of the cell at st: the drawn one's where it lies in `drawn`, else by searching.
   template <class Key, class Node>
-  float pdfImpl(std::size_t bin, glm::vec2 st) const;
+  float pdfImpl(std::size_t bin, glm::vec2 st, const DrawnCells* drawn = nullptr) const;
+  // pdfQuery, passing `drawn` to pdfImpl (sample() after a draw, for its round trip through wi).
+  float pdfQueryNear(const BinQuery& q, const glm::vec3& wi, const DrawnCells* drawn) const;
   // Calls f(Key{}, Node{}) with the key and node types of the tables.
   template <class F>
   decltype(auto) withTableTypes(F&& f) const {
