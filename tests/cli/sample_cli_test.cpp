@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "btf/io/image.h"
@@ -119,7 +120,8 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
                                             "acceptance_rate", "stream_samples_per_s", "theta_o_deg",
                                             "parameterization", "fcos_rel_variance", "efficiency_vs_own",
                                             "stream_efficiency_vs_own", "stream_with_eval_per_s",
-                                            "ceiling_vs_own", "stream_ceiling_vs_own"};
+                                            "ceiling_vs_own", "stream_ceiling_vs_own",
+                                            "proportional_variance_vs_own"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler, per_view;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -156,8 +158,9 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
       // The ceilings belong to the own sampler's rows alone.
       EXPECT_GT(std::stod(rows[i][21]), 0.0) << "ceiling_vs_own";
       EXPECT_GT(std::stod(rows[i][22]), 0.0) << "stream_ceiling_vs_own";
+      EXPECT_GT(std::stod(rows[i][23]), 0.0) << "proportional_variance_vs_own";
     } else {
-      EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty()) << "ceilings of " << sampler;
+      EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty() && rows[i][23].empty()) << "ceilings of " << sampler;
     }
     EXPECT_GE(std::stod(rows[i][17]), 0.0) << "fcos_rel_variance of " << sampler;
     ++per_view[rows[i][15]];
@@ -181,6 +184,15 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     for (const char* chart : {"sampling_memory_vs_error", "sampling_speed_vs_error", "sampling_efficiency"})
       for (const char* ext : {".png", ".svg"}) EXPECT_TRUE(std::filesystem::exists(out / (std::string(chart) + ext))) << chart << ext;
+    // Per material with an own sampler: efficiency and variance against it over theta_o.
+    std::set<std::string> efficiency, variance;
+    for (const auto& f : filesIn(out)) {
+      const std::string name = f.filename().string();
+      if (name.rfind("sampling_vs_own_", 0) == 0 && f.extension() == ".png") efficiency.insert(name.substr(16));
+      if (name.rfind("sampling_variance_vs_own_", 0) == 0 && f.extension() == ".png") variance.insert(name.substr(25));
+    }
+    EXPECT_FALSE(efficiency.empty());
+    EXPECT_EQ(efficiency, variance);
   }
   for (const auto& f : filesIn(out)) EXPECT_EQ(f.string().find(".part"), std::string::npos) << f;
 }
@@ -214,6 +226,37 @@ TEST(BenchSampling, SweepsTheGivenEpsilonsAndThresholdsAndRejectsBadOnes) {
     const CommandResult e = runBtf({"bench", "sampling", "--quick", bad, "-o", (dir / "c").string()});
     EXPECT_NE(e.exit_code, 0) << bad;
     const std::string option(bad, std::string(bad).find('='));  // the message names the option
+    EXPECT_NE(e.output.find(option), std::string::npos) << e.output;
+  }
+}
+
+TEST(BenchSampling, MeasuresOnlyTheNamedTableSamplersAtTheGivenGrid) {
+  TempDir dir;
+  // The tabulated half-vector table at two grids: its bytes grow with the square of the half-vector
+  // bins, so twice the bins must give about four times the bytes.
+  std::vector<double> bytes;
+  for (const char* bins : {"16", "32"}) {
+    const auto out = dir / (std::string("g") + bins);
+    const CommandResult r = runBtf({"bench", "sampling", "--quick", "--samplers", "tabulated", "--theta-o", "30",
+                                    "--parameterizations", "half", "--theta-o-bins", "4", "--half-vector-bins", bins,
+                                    "-o", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::set<std::string> samplers;
+    const auto rows = readCsv(out / "sampling.csv");
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      samplers.insert(rows[i][1]);
+      if (rows[i][1] == "tabulated") bytes.push_back(std::stod(rows[i][3]));
+    }
+    EXPECT_EQ(samplers, (std::set<std::string>{"uniform", "cosine", "material", "tabulated"}));
+  }
+  ASSERT_EQ(bytes.size(), 2u);
+  EXPECT_GT(bytes[1] / bytes[0], 3.0);
+  EXPECT_LT(bytes[1] / bytes[0], 5.0);
+  for (const char* bad : {"--samplers=uniform", "--samplers=octree", "--theta-o-bins=-1", "--half-vector-bins=1",
+                          "--half-vector-bins=5000"}) {
+    const CommandResult e = runBtf({"bench", "sampling", "--quick", bad, "-o", (dir / "c").string()});
+    EXPECT_NE(e.exit_code, 0) << bad;
+    const std::string option(bad, std::string(bad).find('='));
     EXPECT_NE(e.output.find(option), std::string::npos) << e.output;
   }
 }

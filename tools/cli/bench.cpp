@@ -38,6 +38,8 @@ struct BenchOptions {
   std::vector<std::string> parameterizations = {"incident", "half"};
   std::uint64_t seed = 1;
   std::vector<float> epsilons, thresholds;  // empty: the sizes' defaults
+  std::vector<std::string> samplers = {"tabulated", "dp-cdf", "quadtree"};  // the table samplers run
+  int theta_o_bins = 0, half_vector_bins = 0;  // 0: the sizes' (the library's defaults)
 };
 
 // Work per row. --quick is for tests.
@@ -81,13 +83,18 @@ struct Setting {
   std::optional<Parameterization> parameterization;  // the tabulated samplers only
 };
 
-std::vector<Setting> settingsFor(const BenchSizes& sizes, const std::vector<Parameterization>& parameterizations) {
+// The baselines always run: every efficiency is relative to the material's own sampler.
+std::vector<Setting> settingsFor(const BenchSizes& sizes, const std::vector<Parameterization>& parameterizations,
+                                 const std::vector<SamplerChoice>& samplers) {
   std::vector<Setting> settings = {{SamplerChoice::Uniform, {}, {}}, {SamplerChoice::Cosine, {}, {}},
                                    {SamplerChoice::Own, {}, {}}};
+  auto runs = [&](SamplerChoice c) { return std::find(samplers.begin(), samplers.end(), c) != samplers.end(); };
   for (const Parameterization p : parameterizations) {
-    settings.push_back({SamplerChoice::Tabulated, {}, p});
-    for (float e : sizes.epsilons) settings.push_back({SamplerChoice::DpCdf, e, p});
-    for (float t : sizes.thresholds) settings.push_back({SamplerChoice::Quadtree, t, p});
+    if (runs(SamplerChoice::Tabulated)) settings.push_back({SamplerChoice::Tabulated, {}, p});
+    if (runs(SamplerChoice::DpCdf))
+      for (float e : sizes.epsilons) settings.push_back({SamplerChoice::DpCdf, e, p});
+    if (runs(SamplerChoice::Quadtree))
+      for (float t : sizes.thresholds) settings.push_back({SamplerChoice::Quadtree, t, p});
   }
   return settings;
 }
@@ -153,6 +160,7 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
     const EfficiencyCeiling ceiling = efficiencyCeiling(sampled, wo, sizes.estimate_draws, seed, kTimingRepeats);
     row.ceiling_vs_own = ceiling.single();
     row.stream_ceiling_vs_own = ceiling.stream();
+    if (ceiling.variance_ratio > 0) row.proportional_variance_vs_own = 1.0 / ceiling.variance_ratio;
   }
   return row;
 }
@@ -195,7 +203,20 @@ void runBenchSampling(const BenchOptions& o) {
     if (!(e >= 0.0f)) throw Error("--epsilons must be >= 0");
   for (float t : sizes.thresholds)
     if (!(t >= 1.0f) || !std::isfinite(t)) throw Error("--thresholds must be finite and >= 1");
-  const std::vector<Setting> settings = settingsFor(sizes, parameterizations);
+  // 0 keeps the default; past 4096 half-vector bins a table would not fit in memory.
+  if (o.theta_o_bins < 0 || o.theta_o_bins > 4096) throw Error("--theta-o-bins must be in [1, 4096]");
+  if (o.half_vector_bins < 0 || o.half_vector_bins == 1 || o.half_vector_bins > 4096)
+    throw Error("--half-vector-bins must be in [2, 4096]");
+  if (o.theta_o_bins > 0) sizes.tables.theta_o_bins = o.theta_o_bins;
+  if (o.half_vector_bins > 0) sizes.tables.half_vector_bins = o.half_vector_bins;
+  std::vector<SamplerChoice> samplers;
+  for (const std::string& name : o.samplers) {
+    const auto c = parseSamplerChoice(name);
+    if (!c || (*c != SamplerChoice::Tabulated && *c != SamplerChoice::DpCdf && *c != SamplerChoice::Quadtree))
+      throw Error("--samplers: '" + name + "' is not a table sampler (known: tabulated, dp-cdf, quadtree)");
+    samplers.push_back(*c);
+  }
+  const std::vector<Setting> settings = settingsFor(sizes, parameterizations, samplers);
   std::vector<SamplingRow> rows;
   Progress progress("bench sampling", names.size() * (settings.size() + 1));
   for (const std::string& name : names) {
@@ -262,6 +283,13 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
   cmd->add_option("--epsilons", o->epsilons, "DP-CDF tolerances (default 1e-3,3e-3,1e-2)")->delimiter(',');
   cmd->add_option("--thresholds", o->thresholds, "Quadtree max/mean thresholds (default 2,8)")->delimiter(',');
+  cmd->add_option("--samplers", o->samplers,
+                  "Table samplers to measure (comma-separated: tabulated, dp-cdf, quadtree); the uniform, cosine "
+                  "and material's own samplers always run")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--theta-o-bins", o->theta_o_bins, "theta_o bins of the tables (default: the library's, 32)");
+  cmd->add_option("--half-vector-bins", o->half_vector_bins,
+                  "Rows and columns of the half-vector tables (default: the library's, 128)");
   cmd->add_option("-o,--output", o->output, "Output folder (sampling.csv and the charts)")->required();
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);

@@ -105,12 +105,13 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
                  r.fcos_rel_variance > 0 ? own->fcos_rel_variance / r.fcos_rel_variance : 0.0);
   }
   std::fprintf(out,
-               "Ceiling (no sampler beats it: zero cost beyond the eval its weight needs, and the variance of one exactly "
+               "Ceiling (of a sampler with zero cost beyond the eval its weight needs and the variance of one exactly "
                "proportional to f cos; eff/own and stream/own as above):\n");
   for (const SamplingRow& r : rows)
     if (r.ceiling_vs_own && r.stream_ceiling_vs_own)
-      std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f\n", r.material.c_str(), r.theta_o_deg,
-                   *r.ceiling_vs_own, *r.stream_ceiling_vs_own);
+      std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f; variance of an exactly proportional "
+                   "sampler / own's %.3f\n", r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own,
+                   *r.stream_ceiling_vs_own, r.proportional_variance_vs_own.value_or(0.0));
 }
 
 }  // namespace btf::cli

@@ -99,9 +99,48 @@ std::string efficiencyBlock(const std::vector<SamplingRow>& all_rows, std::vecto
   return out.str();
 }
 
-// Per material, efficiency relative to its own sampler against theta_o: the tabulated sampler and
-// DP-CDF at the middle epsilon of the run, single queries and stream calls, per parameterization,
-// under the ceilings no sampler can pass.
+// Series of (theta_o, ratio) points, kept in order of first appearance; non-positive or
+// non-finite ratios are left out (a log axis cannot show them).
+class RatioSeries {
+ public:
+  // A bound is drawn as a dashed line, a measured series with points.
+  void add(const std::string& name, double x, double y, bool bound = false) {
+    if (!(y > 0) || !std::isfinite(y)) return;
+    if (!blocks_.count(name)) names_.push_back(name), bounds_.push_back(bound);
+    blocks_[name] << x << ' ' << y << '\n';
+  }
+  bool empty() const { return names_.empty(); }
+  // The data blocks into `script`, and the plot command's series (after what `plot` already has).
+  std::string plotInto(std::ostringstream& script, const std::string& prefix) {
+    std::ostringstream plot;
+    for (std::size_t i = 0; i < names_.size(); ++i) {
+      script << '$' << prefix << i << " << EOD\n" << blocks_[names_[i]].str() << "EOD\n";
+      plot << ", $" << prefix << i << " using 1:2 with "
+           << (bounds_[i] ? "lines dt 3 lw 3 lc 'gray30'" : "linespoints lw 2") << " title " << gpQuote(names_[i]);
+    }
+    return plot.str();
+  }
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<bool> bounds_;
+  std::map<std::string, std::ostringstream> blocks_;
+};
+
+std::string chartStem(const std::string& prefix, const std::string& material) {
+  std::string stem = prefix + material;
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
+  return stem;
+}
+
+// Per material, two charts against theta_o, relative to its own sampler (the dashed line at 1):
+// - efficiency: the tabulated sampler and DP-CDF at the middle epsilon of the run, single queries
+//   and stream calls, per parameterization, under the ceilings of an exactly proportional sampler
+//   at no cost beyond the eval (EfficiencyCeiling);
+// - variance per sample, own / ours, under the environment and of f cos alone, with the bound an
+//   exactly proportional sampler sets under the environment (it need not be 1: a sampler whose
+//   departures from f cos favour the environment beats it).
 std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows, std::ostringstream& script) {
   std::vector<double> epsilons;
   for (const SamplingRow& r : rows)
@@ -113,46 +152,55 @@ std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows,
   for (const SamplingRow& r : rows)
     if (r.efficiency_vs_own && std::find(materials.begin(), materials.end(), r.material) == materials.end())
       materials.push_back(r.material);
+  auto ownRow = [&](const SamplingRow& r) -> const SamplingRow* {
+    for (const SamplingRow& o : rows)
+      if (o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material") return &o;
+    return nullptr;
+  };
+  auto ratio = [](double own, double ours) { return ours > 0 ? own / ours : 0.0; };
   std::vector<tools::GnuplotChart> charts;
   for (std::size_t mi = 0; mi < materials.size(); ++mi) {
-    std::map<std::string, std::ostringstream> blocks;
-    std::vector<std::string> series;
-    auto add = [&](const std::string& name, double x, double y) {
-      if (!(y > 0) || !std::isfinite(y)) return;
-      if (!blocks.count(name)) series.push_back(name);
-      blocks[name] << x << ' ' << y << '\n';
-    };
+    RatioSeries efficiency, variance;
     for (const SamplingRow& r : rows) {
-      // What no sampler can pass (EfficiencyCeiling), on the own sampler's rows.
-      if (r.material == materials[mi] && r.ceiling_vs_own && r.stream_ceiling_vs_own) {
-        add("ceiling, single", r.theta_o_deg, *r.ceiling_vs_own);
-        add("ceiling, stream", r.theta_o_deg, *r.stream_ceiling_vs_own);
+      if (r.material != materials[mi]) continue;
+      // The ceilings and the proportional sampler's variance (EfficiencyCeiling), on the own sampler's rows.
+      if (r.ceiling_vs_own && r.stream_ceiling_vs_own) {
+        efficiency.add("ceiling, single", r.theta_o_deg, *r.ceiling_vs_own);
+        efficiency.add("ceiling, stream", r.theta_o_deg, *r.stream_ceiling_vs_own);
       }
-      if (r.material != materials[mi] || !r.efficiency_vs_own || r.parameterization.empty()) continue;
-      if (r.sampler == "dp-cdf" && r.parameter && *r.parameter == middle) {
-        std::ostringstream name;
+      if (r.proportional_variance_vs_own)
+        variance.add("env, a sampler exactly proportional to f cos", r.theta_o_deg,
+                     1.0 / *r.proportional_variance_vs_own, true);
+      if (!r.efficiency_vs_own || r.parameterization.empty()) continue;
+      std::ostringstream name;
+      if (r.sampler == "dp-cdf" && r.parameter && *r.parameter == middle)
         name << "dp-cdf " << r.parameterization << " eps " << middle;
-        add(name.str(), r.theta_o_deg, *r.efficiency_vs_own);
-        if (r.stream_efficiency_vs_own) add(name.str() + " stream", r.theta_o_deg, *r.stream_efficiency_vs_own);
-      } else if (r.sampler == "tabulated") {
-        add("tabulated " + r.parameterization, r.theta_o_deg, *r.efficiency_vs_own);
+      else if (r.sampler == "tabulated")
+        name << "tabulated " << r.parameterization;
+      else
+        continue;
+      efficiency.add(name.str(), r.theta_o_deg, *r.efficiency_vs_own);
+      if (r.sampler == "dp-cdf" && r.stream_efficiency_vs_own)
+        efficiency.add(name.str() + " stream", r.theta_o_deg, *r.stream_efficiency_vs_own);
+      if (const SamplingRow* own = ownRow(r)) {
+        variance.add("env, " + name.str(), r.theta_o_deg, ratio(own->per_sample_variance, r.per_sample_variance));
+        variance.add("f cos, " + name.str(), r.theta_o_deg, ratio(own->fcos_rel_variance, r.fcos_rel_variance));
       }
     }
-    if (series.empty()) continue;
-    const std::string prefix = "own" + std::to_string(mi) + "_";
-    for (std::size_t i = 0; i < series.size(); ++i) script << '$' << prefix << i << " << EOD\n" << blocks[series[i]].str() << "EOD\n";
-    std::ostringstream body;
-    body << "set title " << gpQuote("Efficiency relative to the material's own sampler: " + materials[mi]) << "\n"
-         << "set logscale y\nset xlabel 'theta_o (deg)'\nset ylabel 'efficiency / own sampler'\nset grid\n"
-         << "set key outside right\nset xrange [-5:90]\n";
-    body << "plot 1 with lines dt 2 lc 'black' title 'own sampler'";
-    for (std::size_t i = 0; i < series.size(); ++i)
-      body << ", $" << prefix << i << " using 1:2 with linespoints lw 2 title " << gpQuote(series[i]);
-    body << "\n";
-    std::string stem = "sampling_vs_own_" + materials[mi];
-    for (char& c : stem)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
-    charts.push_back({stem, body.str()});
+    auto chart = [&](RatioSeries& series, const std::string& prefix, const std::string& title,
+                     const std::string& ylabel) {
+      if (series.empty()) return;
+      const std::string data = prefix + std::to_string(mi) + "_";
+      std::ostringstream body;
+      body << "set title " << gpQuote(title + materials[mi]) << "\n"
+           << "set logscale y\nset xlabel 'theta_o (deg)'\nset ylabel " << gpQuote(ylabel) << "\nset grid\n"
+           << "set key outside right\nset xrange [-5:90]\n"
+           << "plot 1 with lines dt 2 lc 'black' title 'own sampler'" << series.plotInto(script, data) << "\n";
+      charts.push_back({chartStem("sampling_" + prefix + "_", materials[mi]), body.str()});
+    };
+    chart(efficiency, "vs_own", "Efficiency relative to the material's own sampler: ", "efficiency / own sampler");
+    chart(variance, "variance_vs_own", "Variance per sample, own sampler's / ours (above 1 favours ours): ",
+          "variance of own / variance of ours");
   }
   return charts;
 }

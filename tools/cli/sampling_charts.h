@@ -6,6 +6,9 @@
 //   sampling_vs_own_MATERIAL   efficiency / the material's own sampler's against theta_o: tabulated
 //                              and DP-CDF (middle epsilon; single queries and stream) per
 //                              parameterization
+//   sampling_variance_vs_own_MATERIAL  variance per sample, own / ours, against theta_o: under the
+//                              environment and of f cos alone, with the environment bound of an
+//                              exactly proportional sampler
 // The data is inlined in the script, so the script alone reproduces the charts.
 #pragma once
 

@@ -17,7 +17,8 @@ const std::vector<std::string>& samplingCsvColumns() {
                                                    "stream_samples_per_s", "theta_o_deg", "parameterization",
                                                    "fcos_rel_variance", "efficiency_vs_own",
                                                    "stream_efficiency_vs_own", "stream_with_eval_per_s",
-                                                   "ceiling_vs_own", "stream_ceiling_vs_own"};
+                                                   "ceiling_vs_own", "stream_ceiling_vs_own",
+                                                   "proportional_variance_vs_own"};
   return columns;
 }
 
@@ -58,6 +59,8 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       optional(r.ceiling_vs_own);
       out << ',';
       optional(r.stream_ceiling_vs_own);
+      out << ',';
+      optional(r.proportional_variance_vs_own);
       out << '\n';
     }
   });

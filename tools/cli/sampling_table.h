@@ -41,8 +41,14 @@ struct SamplingRow {
   std::string parameterization;
   double fcos_rel_variance = 0;
   std::optional<double> efficiency_vs_own, stream_efficiency_vs_own;
-  // The own sampler's row only: what no sampler can beat relative to it (EfficiencyCeiling).
+  // The own sampler's row only: what an exactly proportional sampler at no cost beyond the eval
+  // would reach relative to it (EfficiencyCeiling).
   std::optional<double> ceiling_vs_own, stream_ceiling_vs_own;
+  // The own sampler's row only: the per-sample variance of a sampler exactly proportional to
+  // lum(f) cos over the own sampler's (EfficiencyCeiling::variance_ratio inverted). Below 1, even a
+  // perfect f cos sampler has less variance than the own one; above 1, the own sampler is better
+  // matched to the environment than f cos itself is, and no BSDF sampler reaches its variance.
+  std::optional<double> proportional_variance_vs_own;
   // material, theta_o and parameterization: the rows the summaries compare with each other.
   std::string group() const;
 };

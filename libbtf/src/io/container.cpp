@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -298,8 +299,12 @@ const ContainerSection& requireSection(std::span<const ContainerSection> section
 }
 
 void ByteWriter::append(const void* data, std::size_t size) {
-  const auto* p = static_cast<const std::byte*>(data);
-  bytes_.insert(bytes_.end(), p, p + size);
+  if (size == 0) return;
+  // resize and copy rather than insert: GCC 12 at -O3 misreads insert's growth of an empty vector
+  // as a write past its end (-Wstringop-overflow).
+  const std::size_t old = bytes_.size();
+  bytes_.resize(old + size);
+  std::memcpy(bytes_.data() + old, data, size);
 }
 
 void ByteReader::requireEnd() const {
