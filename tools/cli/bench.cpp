@@ -168,10 +168,8 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
 // Efficiencies relative to the own sampler's row of the same material and view.
 void relateToOwn(std::vector<SamplingRow>& rows) {
   for (SamplingRow& r : rows) {
-    const auto own = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& o) {
-      return o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material";
-    });
-    if (own == rows.end() || !(own->efficiency > 0)) continue;
+    const SamplingRow* own = ownRowOf(rows, r);
+    if (!own || !(own->efficiency > 0)) continue;
     r.efficiency_vs_own = r.efficiency / own->efficiency;
     // efficiency = 1 / (variance of the mean * seconds of the draws) = 1 / (variance per sample *
     // seconds per draw), so the stream's is its draws per second over its variance per sample. The

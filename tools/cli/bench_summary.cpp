@@ -91,18 +91,16 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
                "bytes/full", "eff/own", "stream/own", "var own/", "f cos own/");
   for (const SamplingRow& r : rows) {
     if (!r.efficiency_vs_own || r.parameterization.empty()) continue;
-    const auto own = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& o) {
-      return o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material";
-    });
-    if (own == rows.end()) continue;
+    const SamplingRow* own = ownRowOf(rows, r);
+    if (!own) continue;
     char eps[16] = "", memory[16] = "", stream[16] = "";
     if (r.parameter) std::snprintf(eps, sizeof eps, "%.3g", *r.parameter);
     if (r.bytes && r.full_cdf_bytes && *r.full_cdf_bytes > 0) std::snprintf(memory, sizeof memory, "%.3f", *r.bytes / *r.full_cdf_bytes);
     if (r.stream_efficiency_vs_own) std::snprintf(stream, sizeof stream, "%.2f", *r.stream_efficiency_vs_own);
+    const VarianceVsOwn variance = varianceVsOwn(*own, r);
     std::fprintf(out, "  %-26s %7.0f %-9s %-9s %8s %10s %9.2f %11s %9.3f %13.3f\n", r.material.c_str(), r.theta_o_deg,
                  r.parameterization.c_str(), r.sampler.c_str(), eps, memory, *r.efficiency_vs_own, stream,
-                 r.per_sample_variance > 0 ? own->per_sample_variance / r.per_sample_variance : 0.0,
-                 r.fcos_rel_variance > 0 ? own->fcos_rel_variance / r.fcos_rel_variance : 0.0);
+                 variance.env, variance.fcos);
   }
   std::fprintf(out,
                "Ceiling (of a sampler with zero cost beyond the eval its weight needs and the variance of one exactly "

@@ -103,7 +103,7 @@ std::string efficiencyBlock(const std::vector<SamplingRow>& all_rows, std::vecto
 // non-finite ratios are left out (a log axis cannot show them).
 class RatioSeries {
  public:
-  // A bound is drawn as a dashed line, a measured series with points.
+  // A bound is drawn as a dotted line, a measured series with points.
   void add(const std::string& name, double x, double y, bool bound = false) {
     if (!(y > 0) || !std::isfinite(y)) return;
     if (!blocks_.count(name)) names_.push_back(name), bounds_.push_back(bound);
@@ -152,12 +152,6 @@ std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows,
   for (const SamplingRow& r : rows)
     if (r.efficiency_vs_own && std::find(materials.begin(), materials.end(), r.material) == materials.end())
       materials.push_back(r.material);
-  auto ownRow = [&](const SamplingRow& r) -> const SamplingRow* {
-    for (const SamplingRow& o : rows)
-      if (o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material") return &o;
-    return nullptr;
-  };
-  auto ratio = [](double own, double ours) { return ours > 0 ? own / ours : 0.0; };
   std::vector<tools::GnuplotChart> charts;
   for (std::size_t mi = 0; mi < materials.size(); ++mi) {
     RatioSeries efficiency, variance;
@@ -182,9 +176,10 @@ std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows,
       efficiency.add(name.str(), r.theta_o_deg, *r.efficiency_vs_own);
       if (r.sampler == "dp-cdf" && r.stream_efficiency_vs_own)
         efficiency.add(name.str() + " stream", r.theta_o_deg, *r.stream_efficiency_vs_own);
-      if (const SamplingRow* own = ownRow(r)) {
-        variance.add("env, " + name.str(), r.theta_o_deg, ratio(own->per_sample_variance, r.per_sample_variance));
-        variance.add("f cos, " + name.str(), r.theta_o_deg, ratio(own->fcos_rel_variance, r.fcos_rel_variance));
+      if (const SamplingRow* own = ownRowOf(rows, r)) {
+        const VarianceVsOwn v = varianceVsOwn(*own, r);
+        variance.add("env, " + name.str(), r.theta_o_deg, v.env);
+        variance.add("f cos, " + name.str(), r.theta_o_deg, v.fcos);
       }
     }
     auto chart = [&](RatioSeries& series, const std::string& prefix, const std::string& title,

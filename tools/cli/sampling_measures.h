@@ -57,15 +57,17 @@ double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo,
                               std::uint64_t seed, bool with_eval = false);
 
 // What a BSDF sampler of a material that samples f cos exactly would reach, relative to the
-// material's own sampler, measured on `count` of the own sampler's draws (stream `seed`, as estimateReflectedRadiance). An unbiased
-// estimate from a sampler that is not exactly proportional to f cos needs f at each drawn wi for
-// the weight f cos / pdf, so each draw costs at least the material's eval (plus the environment in
-// the single-query estimate; the stream measure leaves the environment out); and a sampler exactly
-// proportional to lum(f) cos, whose term is the albedo A times E(wi), has constant weights: the
-// best a sampler that ignores the environment can aim for. It is not a floor under one fixed
-// environment: a sampler whose departures from f cos put more draws where that environment is
-// bright has less variance (variance_ratio < 1 says the own sampler does). Its per-sample variance follows from the own draws by importance weighting with
-// their weights w = lum(f) cos / pdf: E[(A E)^2] = A E_own[w E^2], so it is A mean(w E^2) - L^2.
+// material's own sampler, measured on `count` of the own sampler's draws (stream `seed`, as
+// estimateReflectedRadiance). An unbiased estimate from a sampler that is not exactly proportional
+// to f cos needs f at each drawn wi for the weight f cos / pdf, so each draw costs at least the
+// material's eval (plus the environment in the single-query estimate; the stream measure leaves the
+// environment out); and a sampler exactly proportional to lum(f) cos, whose term is the albedo A
+// times E(wi), has constant weights: the best a sampler that ignores the environment can aim for.
+// It is not a floor under one fixed environment: a sampler whose departures from f cos put more
+// draws where that environment is bright has less variance (variance_ratio < 1 says the own
+// sampler does). The proportional sampler's per-sample variance follows from the own draws by
+// importance weighting with their weights w = lum(f) cos / pdf: E[(A E)^2] = A E_own[w E^2], so
+// it is A mean(w E^2) - L^2.
 // The ceilings multiply the two: a sampler with zero cost beyond the eval and the variance of an
 // exactly proportional one would have these efficiencies relative to the own sampler.
 struct EfficiencyCeiling {

@@ -22,6 +22,17 @@ const std::vector<std::string>& samplingCsvColumns() {
   return columns;
 }
 
+const SamplingRow* ownRowOf(const std::vector<SamplingRow>& rows, const SamplingRow& r) {
+  for (const SamplingRow& o : rows)
+    if (o.material == r.material && o.theta_o_deg == r.theta_o_deg && o.sampler == "material") return &o;
+  return nullptr;
+}
+
+VarianceVsOwn varianceVsOwn(const SamplingRow& own, const SamplingRow& r) {
+  return {r.per_sample_variance > 0 ? own.per_sample_variance / r.per_sample_variance : 0.0,
+          r.fcos_rel_variance > 0 ? own.fcos_rel_variance / r.fcos_rel_variance : 0.0};
+}
+
 std::string SamplingRow::group() const {
   char theta[32];
   std::snprintf(theta, sizeof theta, " %g deg", theta_o_deg);

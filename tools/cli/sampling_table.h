@@ -45,13 +45,23 @@ struct SamplingRow {
   // would reach relative to it (EfficiencyCeiling).
   std::optional<double> ceiling_vs_own, stream_ceiling_vs_own;
   // The own sampler's row only: the per-sample variance of a sampler exactly proportional to
-  // lum(f) cos over the own sampler's (EfficiencyCeiling::variance_ratio inverted). Below 1, even a
-  // perfect f cos sampler has less variance than the own one; above 1, the own sampler is better
-  // matched to the environment than f cos itself is, and no BSDF sampler reaches its variance.
+  // lum(f) cos over the own sampler's (EfficiencyCeiling::variance_ratio inverted). Below 1, a
+  // perfect f cos sampler has less variance than the own one; above 1, the own sampler's departures
+  // from f cos favour the environment, and no sampler proportional to f cos reaches its variance.
   std::optional<double> proportional_variance_vs_own;
   // material, theta_o and parameterization: the rows the summaries compare with each other.
   std::string group() const;
 };
+
+// The own sampler's row of r's material and view, or null.
+const SamplingRow* ownRowOf(const std::vector<SamplingRow>& rows, const SamplingRow& r);
+
+// The own sampler's variances over r's (> 1: r samples better), 0 where r's is 0: under the
+// environment (per_sample_variance) and of f cos alone (fcos_rel_variance).
+struct VarianceVsOwn {
+  double env = 0, fcos = 0;
+};
+VarianceVsOwn varianceVsOwn(const SamplingRow& own, const SamplingRow& r);
 
 // The column names, in order.
 const std::vector<std::string>& samplingCsvColumns();

@@ -143,10 +143,10 @@ Rgb RglBrdf::reflectanceTimesCos(glm::vec2 s, glm::vec2 u_m, const Outgoing& o) 
   return f;
 }
 
-glm::vec2 RglBrdf::halfVectorUnit(const glm::vec3& m, const Outgoing& o) {
-  const float r = std::sqrt(m.x * m.x + m.y * m.y);
-  // theta_m / (2 pi) is in [0, 1/2] (r >= 0), so theta_m (2 / pi) = 4 turns needs no clamp at 0.
-  const float theta_turns = fastAtan2Turns(r, m.z);
+glm::vec2 RglBrdf::halfVectorUnit(const glm::vec3& m, float sin_theta_m, const Outgoing& o) {
+  // theta_m / (2 pi) is in [0, 1/2] (sin_theta_m >= 0), so theta_m (2 / pi) = 4 turns needs no
+  // clamp at 0.
+  const float theta_turns = fastAtan2Turns(sin_theta_m, m.z);
   float u_y = fastAtan2Turns(m.y, m.x) - o.phi_o_turns + 0.5f;
   u_y -= std::floor(u_y);  // relative azimuths span (-1, 1) turns; wrap onto [0, 1)
   // At the pole of m (u_m.x = 0, the mirror direction) the files' VNDF density over the square is
@@ -165,14 +165,15 @@ RglBrdf::InverseMap RglBrdf::mapBack(const glm::vec3& wi, const glm::vec3& wo, c
                                      const BilinearWarp2D::Fixed* luminance) const {
   InverseMap r;
   const glm::vec3 m = glm::normalize(wi + wo);
-  r.u_m = halfVectorUnit(m, o);
+  const float sin_theta_m = std::sqrt(m.x * m.x + m.y * m.y);
+  r.u_m = halfVectorUnit(m, sin_theta_m, o);
   if (!luminance) {
     r.s = o.vndf.invert(r.u_m).p;
     return r;
   }
   const auto [s, vndf_pdf] = o.vndf.invert(r.u_m);
   r.s = s;
-  const float jacobian = unitToSolidAngleJacobian(r.u_m.x, std::sqrt(m.x * m.x + m.y * m.y)) * 4.0f * glm::dot(wo, m);
+  const float jacobian = unitToSolidAngleJacobian(r.u_m.x, sin_theta_m) * 4.0f * glm::dot(wo, m);
   const float pdf = jacobian > 0.0f ? vndf_pdf * luminance->eval(s) / jacobian : 0.0f;
   r.pdf = std::isfinite(pdf) ? pdf : 0.0f;
   return r;

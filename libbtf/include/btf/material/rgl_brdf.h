@@ -85,9 +85,10 @@ class RglBrdf final : public Material {
   // (wi, wo) through the inverse maps: m's unit coordinates, the VNDF square point s, and (given
   // the luminance warp at wo) the solid-angle density of sample(), 0 where it is not finite. eval,
   // pdf and sample all go through it, so that they agree exactly.
-  // m's unit coordinates: theta_m through a square root, phi_m relative to wo's. The angles come
-  // from fastAtan2Turns, not std::atan2, which took a quarter of an eval (perf).
-  static glm::vec2 halfVectorUnit(const glm::vec3& m, const Outgoing& o);
+  // m's unit coordinates: theta_m through a square root, phi_m relative to wo's; sin_theta_m is
+  // |m.xy|, which the caller also needs for the Jacobian. The angles come from fastAtan2Turns, not
+  // std::atan2, which took a quarter of an eval (perf).
+  static glm::vec2 halfVectorUnit(const glm::vec3& m, float sin_theta_m, const Outgoing& o);
   struct InverseMap {
     glm::vec2 s{0.0f}, u_m{0.0f};
     float pdf = 0.0f;
