@@ -121,7 +121,8 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
                                             "parameterization", "fcos_rel_variance", "efficiency_vs_own",
                                             "stream_efficiency_vs_own", "stream_with_eval_per_s",
                                             "ceiling_vs_own", "stream_ceiling_vs_own",
-                                            "proportional_variance_vs_own"};
+                                            "proportional_variance_vs_own", "eval_env_ns",
+                                            "draw_budget_ns_2x", "ns_per_draw"};
   EXPECT_EQ(rows[0], columns);
   std::map<std::string, int> per_sampler, per_view;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -159,9 +160,17 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
       EXPECT_GT(std::stod(rows[i][21]), 0.0) << "ceiling_vs_own";
       EXPECT_GT(std::stod(rows[i][22]), 0.0) << "stream_ceiling_vs_own";
       EXPECT_GT(std::stod(rows[i][23]), 0.0) << "proportional_variance_vs_own";
+      // The draw budget for twice the own efficiency follows from the ceiling and the eval's time:
+      // a zero-cost draw reaches the ceiling, so the budget is eval_env_ns (ceiling / 2 - 1).
+      const double eval_env_ns = std::stod(rows[i][24]), budget = std::stod(rows[i][25]);
+      EXPECT_GT(eval_env_ns, 0.0) << "eval_env_ns";
+      EXPECT_NEAR(budget, eval_env_ns * (std::stod(rows[i][21]) / 2.0 - 1.0), 1e-4 * eval_env_ns) << "draw_budget_ns_2x";
     } else {
-      EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty() && rows[i][23].empty()) << "ceilings of " << sampler;
+      EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty() && rows[i][23].empty() && rows[i][24].empty() &&
+                  rows[i][25].empty())
+          << "ceilings of " << sampler;
     }
+    EXPECT_GT(std::stod(rows[i][26]), 0.0) << "ns_per_draw of " << sampler;
     EXPECT_GE(std::stod(rows[i][17]), 0.0) << "fcos_rel_variance of " << sampler;
     ++per_view[rows[i][15]];
     if (sampler == "quadtree") {

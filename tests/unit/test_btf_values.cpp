@@ -11,6 +11,7 @@
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf_test_data.h"
+#include "compress/vq_impl.h"
 
 namespace btf {
 namespace {
@@ -47,6 +48,23 @@ TEST(BtfValues, StreamGivesValueBitForBitOnEveryForm) {
     const VqBtf vq = compressVq(data, o);
     SCOPED_TRACE(levels);
     expectStreamMatchesValue(vq, 6, 5);
+  }
+}
+
+// values() groups and prefetches differently for tables past the L2 cache (a full-size BTF's) than
+// within it; both give value() bit for bit, full groups and a partial last one, here on a small file.
+TEST(BtfValues, BothGroupingsOfTheThreeLevelStreamGiveValueBitForBit) {
+  const VqBtf vq = compressVq(test::makeGgxBtf(6, 5, true), {});
+  const std::vector<BtfSampleIndex> samples = randomSamples(6, 5, 1001);
+  for (bool past_l2 : {false, true}) {
+    std::vector<Rgb> out(samples.size(), Rgb(-1.0f));
+    decodeThreeLevelStream(vq.impl(), samples, out, past_l2);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Rgb v = vq.value(samples[i].x, samples[i].y, samples[i].view, samples[i].light);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(v[c]), std::bit_cast<std::uint32_t>(out[i][c]))
+            << "sample " << i << (past_l2 ? ", tables past L2" : ", tables within L2");
+    }
   }
 }
 

@@ -87,8 +87,8 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
                "\nAgainst the material's own sampler at the same theta_o (ratios > 1: ours is better; eff = 1 / "
                "(variance * seconds) with sample()'s time, stream = with the stream call's time per draw and the eval of its weight; var = "
                "environment-lit variance per sample; f cos = relative variance of f cos / pdf):\n");
-  std::fprintf(out, "  %-26s %7s %-9s %-9s %8s %10s %9s %11s %9s %13s\n", "material", "theta_o", "param", "sampler", "eps",
-               "bytes/full", "eff/own", "stream/own", "var own/", "f cos own/");
+  std::fprintf(out, "  %-26s %7s %-9s %-9s %8s %10s %9s %11s %9s %13s %8s\n", "material", "theta_o", "param", "sampler", "eps",
+               "bytes/full", "eff/own", "stream/own", "var own/", "f cos own/", "draw ns");
   for (const SamplingRow& r : rows) {
     if (!r.efficiency_vs_own || r.parameterization.empty()) continue;
     const SamplingRow* own = ownRowOf(rows, r);
@@ -98,18 +98,26 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
     if (r.bytes && r.full_cdf_bytes && *r.full_cdf_bytes > 0) std::snprintf(memory, sizeof memory, "%.3f", *r.bytes / *r.full_cdf_bytes);
     if (r.stream_efficiency_vs_own) std::snprintf(stream, sizeof stream, "%.2f", *r.stream_efficiency_vs_own);
     const VarianceVsOwn variance = varianceVsOwn(*own, r);
-    std::fprintf(out, "  %-26s %7.0f %-9s %-9s %8s %10s %9.2f %11s %9.3f %13.3f\n", r.material.c_str(), r.theta_o_deg,
+    // The draw alone: the estimate's time per draw less the eval, weight and environment at the own draws.
+    char draw[16] = "";
+    if (own->eval_env_ns) std::snprintf(draw, sizeof draw, "%.0f", r.ns_per_draw - *own->eval_env_ns);
+    std::fprintf(out, "  %-26s %7.0f %-9s %-9s %8s %10s %9.2f %11s %9.3f %13.3f %8s\n", r.material.c_str(), r.theta_o_deg,
                  r.parameterization.c_str(), r.sampler.c_str(), eps, memory, *r.efficiency_vs_own, stream,
-                 variance.env, variance.fcos);
+                 variance.env, variance.fcos, draw);
   }
   std::fprintf(out,
                "Ceiling (of a sampler with zero cost beyond the eval its weight needs and the variance of one exactly "
                "proportional to f cos; eff/own and stream/own as above):\n");
-  for (const SamplingRow& r : rows)
-    if (r.ceiling_vs_own && r.stream_ceiling_vs_own)
-      std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f; variance of an exactly proportional "
-                   "sampler / own's %.3f\n", r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own,
-                   *r.stream_ceiling_vs_own, r.proportional_variance_vs_own.value_or(0.0));
+  for (const SamplingRow& r : rows) {
+    if (!r.ceiling_vs_own || !r.stream_ceiling_vs_own) continue;
+    char budget[96] = "none reaches it";  // the ceiling itself is below 2
+    if (r.draw_budget_ns_2x && *r.draw_budget_ns_2x >= 0)
+      std::snprintf(budget, sizeof budget, "its draw may take %.0f ns", *r.draw_budget_ns_2x);
+    std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f; variance of an exactly proportional "
+                 "sampler / own's %.3f; for eff/own 2 %s beyond the %.0f ns of eval, weight and environment\n",
+                 r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own,
+                 r.proportional_variance_vs_own.value_or(0.0), budget, r.eval_env_ns.value_or(0.0));
+  }
 }
 
 }  // namespace btf::cli

@@ -181,6 +181,7 @@ EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& w
 
   EfficiencyCeiling c;
   c.variance_ratio = proportional_variance > 0 ? own_variance / proportional_variance : 0.0;
+  c.draws = count;
   c.own_seconds = c.eval_env_seconds = c.eval_many_seconds = 1e300;
   volatile double sink = 0;
   constexpr std::size_t kBlock = 256;

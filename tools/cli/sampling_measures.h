@@ -75,8 +75,16 @@ struct EfficiencyCeiling {
   double eval_env_seconds = 0;    // eval, the weight and the environment at the own draws
   double eval_many_seconds = 0;   // evalMany alone at the own draws, in blocks of 256
   double variance_ratio = 0;      // own per-sample variance / an exactly proportional sampler's
+  std::uint64_t draws = 0;        // of each timed pass
   double single() const { return own_seconds / eval_env_seconds * variance_ratio; }
   double stream() const { return own_seconds / eval_many_seconds * variance_ratio; }
+  // Seconds per draw of eval, weight and environment: what any table sampler pays on top of its draw.
+  double evalEnvPerDraw() const { return eval_env_seconds / double(draws); }
+  // The most an exactly proportional sampler's draw (direction and pdf, beyond evalEnvPerDraw) may
+  // cost for `target` times the own sampler's single-query efficiency: its efficiency over the
+  // own's is variance_ratio * own time / (draw + eval), so the draw may take variance_ratio * own
+  // time / target - eval per draw. Negative: no such sampler reaches the target, however fast.
+  double drawBudget(double target) const { return (own_seconds * variance_ratio / target - eval_env_seconds) / double(draws); }
 };
 EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& wo, std::uint64_t count,
                                     std::uint64_t seed, int timing_repeats);

@@ -18,7 +18,8 @@ const std::vector<std::string>& samplingCsvColumns() {
                                                    "fcos_rel_variance", "efficiency_vs_own",
                                                    "stream_efficiency_vs_own", "stream_with_eval_per_s",
                                                    "ceiling_vs_own", "stream_ceiling_vs_own",
-                                                   "proportional_variance_vs_own"};
+                                                   "proportional_variance_vs_own", "eval_env_ns",
+                                                   "draw_budget_ns_2x", "ns_per_draw"};
   return columns;
 }
 
@@ -72,7 +73,11 @@ void writeSamplingCsv(const std::filesystem::path& path, const std::vector<Sampl
       optional(r.stream_ceiling_vs_own);
       out << ',';
       optional(r.proportional_variance_vs_own);
-      out << '\n';
+      out << ',';
+      optional(r.eval_env_ns);
+      out << ',';
+      optional(r.draw_budget_ns_2x);
+      out << ',' << r.ns_per_draw << '\n';
     }
   });
 }

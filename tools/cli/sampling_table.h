@@ -9,7 +9,9 @@
 //   stream_efficiency_vs_own (the same with the time per draw of the stream call followed by the
 //   material's eval of every drawn direction: the stream returns the direction and its pdf, and a
 //   renderer still needs f for the weight, which the own sampler's sample() includes),
-//   stream_with_eval_per_s (that rate: sampleDirections, then eval per draw; empty for others)
+//   stream_with_eval_per_s (that rate: sampleDirections, then eval per draw; empty for others),
+//   ceiling_vs_own, stream_ceiling_vs_own, proportional_variance_vs_own, eval_env_ns and
+//   draw_budget_ns_2x (the own sampler's rows only, see SamplingRow), ns_per_draw
 // rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);
 // full_cdf_bytes (the float CDFs of the full grid, for memory ratios) is empty for warps and a
 // material's own sampler; acceptance_rate is the quadtree's mean per-proposal acceptance over its
@@ -49,6 +51,14 @@ struct SamplingRow {
   // perfect f cos sampler has less variance than the own one; above 1, the own sampler's departures
   // from f cos favour the environment, and no sampler proportional to f cos reaches its variance.
   std::optional<double> proportional_variance_vs_own;
+  // Nanoseconds per draw of the fixed estimate (seconds over its draws: the draw with its weight's
+  // eval and the environment).
+  double ns_per_draw = 0;
+  // The own sampler's row only: nanoseconds per draw of eval, weight and environment at its draws,
+  // which every table sampler pays on top of its draw (ns_per_draw - eval_env_ns is what a table
+  // row's draw costs), and the draw time at which an exactly proportional sampler would reach 2x
+  // the own sampler's single-query efficiency (EfficiencyCeiling::drawBudget; negative: none can).
+  std::optional<double> eval_env_ns, draw_budget_ns_2x;
   // material, theta_o and parameterization: the rows the summaries compare with each other.
   std::string group() const;
 };

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -176,5 +177,11 @@ struct VqBtf::Impl {
     return {lum * cr, lum * cg, lum * cb};
   }
 };
+
+// VqBtf::values for three levels (indices checked): groups of samples walked one step at a time
+// (vq_stream.cpp), sized and prefetched for tables past the L2 cache (past_l2) or within it.
+// values() chooses by lookupTableBytes(); the tests run both on small files.
+void decodeThreeLevelStream(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, std::span<Rgb> out,
+                            bool past_l2);
 
 }  // namespace btf

@@ -19,9 +19,14 @@
 namespace btf {
 namespace {
 
-// Samples per group: enough misses in flight to fill the core's line-fill buffers, few enough that
-// the group's state stays in registers and L1.
-constexpr std::size_t kGroup = 16;
+// Samples per group. Each step of a group waits about once for its slowest load, so a group pays
+// one latency per step, shared by its samples. Tables within the L2 cache: 16, few enough that
+// the group's state stays in registers and L1. Tables past it (prefetching): a latency is then an
+// L3 or DRAM one, and only many more loads in flight amortize it: 128 decoded a full-size
+// calibrated BTF faster than 16 or 64 did (README, "Decoding the ε 0.2 file at random"), and no
+// slower at a few MB (BM_BtfDecodeVqStream).
+constexpr std::size_t kCachedGroup = 16;
+constexpr std::size_t kPrefetchedGroup = 128;
 
 // The L2 cache of this machine (1 MB when the system does not say).
 double l2CacheBytes() {
@@ -32,9 +37,10 @@ double l2CacheBytes() {
   return bytes;
 }
 
-// A group of n samples of a three-level VqBtf (indices checked by the caller). Count is kGroup as a
-// compile-time constant for full groups, so that their loops unroll and vectorize, or a size_t.
-template <class Count>
+// A group of n <= kGroup samples of a three-level VqBtf (indices checked by the caller). Count is
+// kGroup as a compile-time constant for full groups, so that their loops unroll and vectorize, or a
+// size_t.
+template <std::size_t kGroup, class Count>
 void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool prefetching, Rgb* out) {
   auto prefetch = [prefetching](const auto* p) {
     if (prefetching) __builtin_prefetch(p, 0, 3);
@@ -86,7 +92,25 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
   for (std::size_t i = 0; i < n; ++i) out[i] = Rgb(r[i], g[i], b[i]);
 }
 
+template <std::size_t kGroup>
+void decodeAll(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, bool prefetching, std::span<Rgb> out) {
+  const std::integral_constant<std::size_t, kGroup> full;
+  std::size_t i = 0;
+  for (; i + kGroup <= samples.size(); i += kGroup) decodeGroup<kGroup>(m, &samples[i], full, prefetching, &out[i]);
+  if (i < samples.size()) decodeGroup<kGroup>(m, &samples[i], samples.size() - i, prefetching, &out[i]);
+}
+
 }  // namespace
+
+void decodeThreeLevelStream(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, std::span<Rgb> out,
+                            bool past_l2) {
+  // Prefetching the next step pays when the tables exceed the L2 cache; within it the prefetches
+  // are only extra instructions (BM_BtfDecodeVqStream at its smallest sizes).
+  if (past_l2)
+    decodeAll<kPrefetchedGroup>(m, samples, true, out);
+  else
+    decodeAll<kCachedGroup>(m, samples, false, out);
+}
 
 void VqBtf::values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const {
   checkSampleIndices(samples, out.size());
@@ -95,13 +119,7 @@ void VqBtf::values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) 
     for (std::size_t i = 0; i < samples.size(); ++i) out[i] = value(samples[i].x, samples[i].y, samples[i].view, samples[i].light);
     return;
   }
-  // Prefetching the next step pays when the tables exceed the L2 cache (~10% at 3.9 and 6.4 MB,
-  // BM_BtfDecodeVqStream); within it the prefetches are only extra instructions (~5% at 0.4 MB).
-  const bool prefetching = double(lookupTableBytes()) > l2CacheBytes();
-  std::size_t i = 0;
-  for (; i + kGroup <= samples.size(); i += kGroup)
-    decodeGroup(m, &samples[i], std::integral_constant<std::size_t, kGroup>(), prefetching, &out[i]);
-  if (i < samples.size()) decodeGroup(m, &samples[i], samples.size() - i, prefetching, &out[i]);
+  decodeThreeLevelStream(m, samples, out, double(lookupTableBytes()) > l2CacheBytes());
 }
 
 }  // namespace btf
