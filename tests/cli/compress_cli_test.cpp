@@ -189,6 +189,47 @@ TEST(CompressCli, BadInputsFailNamingTheFileAndLeaveNoOutput) {
   }
 }
 
+TEST(BenchDecode, ReportsTheFilesRatesBesideLafortuneAndRefusesBadInput) {
+  TempDir dir;
+  const fs::path brdf = dir / "plastic.binary", packed = dir / "plastic.btfz";
+  ASSERT_EQ(runDatagen({"--preset", "plastic-red", "--clean", "-o", brdf.string()}).exit_code, 0);
+  ASSERT_EQ(runBtf({"compress", brdf.string(), packed.string()}).exit_code, 0);
+  auto bench = [&](const std::string& seed) {
+    const CommandResult r = runBtf({"bench", "decode", packed.string(), "--samples", "1000", "--repeats", "2", "--seed",
+                                    seed, "--json"});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return parseJsonOutput(r);
+  };
+  const nlohmann::json a = bench("1"), b = bench("1"), c = bench("2");
+  EXPECT_EQ(a["texels"], nlohmann::json({1, 1}));
+  EXPECT_EQ(a["views"], 81);
+  EXPECT_EQ(a["samples"], 768) << "whole blocks of 256";
+  EXPECT_DOUBLE_EQ(a["table_MB"].get<double>(), double(VqBtf::read(packed).lookupTableBytes()) / 1e6);
+  for (const char* rate : {"value_per_s", "values_per_s", "lafortune_per_s"}) EXPECT_GT(a[rate].get<double>(), 0.0) << rate;
+  EXPECT_DOUBLE_EQ(a["values_vs_lafortune"].get<double>(), a["values_per_s"].get<double>() / a["lafortune_per_s"].get<double>());
+  // The samples follow the seed alone: the same seed decodes the same values, another seed others.
+  EXPECT_EQ(a["checksum"], b["checksum"]);
+  EXPECT_NE(a["checksum"], c["checksum"]);
+
+  struct Case {
+    std::vector<std::string> args;
+    std::string named, problem;
+  };
+  const std::vector<Case> cases{
+      {{"bench", "decode", (dir / "missing.btfz").string()}, "missing.btfz", "no such"},
+      {{"bench", "decode", brdf.string()}, "plastic.binary", "not a .btfz"},
+      {{"bench", "decode", packed.string(), "--samples", "100"}, "--samples", "256"},
+      {{"bench", "decode", packed.string(), "--repeats", "0"}, "--repeats", "1"},
+  };
+  for (const Case& k : cases) {
+    const CommandResult r = runBtf(k.args);
+    EXPECT_NE(r.exit_code, 0) << k.args[2];
+    EXPECT_LT(r.exit_code, 128) << "no crash: " << r.output;
+    EXPECT_THAT(r.output, HasSubstr(k.named)) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(k.problem)) << r.output;
+  }
+}
+
 TEST(BenchCompression, QuickRunWritesBothCsvFilesWithVqAndPcaRows) {
   TempDir dir;
   const fs::path out = dir / "bench";

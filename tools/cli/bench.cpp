@@ -11,6 +11,7 @@
 
 #include "bench_compressibility.h"
 #include "bench_compression.h"
+#include "bench_decode.h"
 #include "bench_fits.h"
 #include "bench_materials.h"
 #include "bench_render.h"
@@ -298,6 +299,7 @@ void registerBenchCommand(CLI::App& app) {
   cmd->callback([o] { runBenchSampling(*o); });
   addBenchCompressionCommand(*bench);
   addBenchCompressibilityCommand(*bench);
+  addBenchDecodeCommand(*bench);
   addBenchFitsCommand(*bench);
   addBenchRenderCommand(*bench);
 }
