@@ -113,10 +113,13 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
     char budget[96] = "none reaches it";  // the ceiling itself is below 2
     if (r.draw_budget_ns_2x && *r.draw_budget_ns_2x >= 0)
       std::snprintf(budget, sizeof budget, "its draw may take %.0f ns", *r.draw_budget_ns_2x);
+    // Unset when the own sampler has no variance to compare with.
+    char proportional[16] = "n/a";
+    if (r.proportional_variance_vs_own) std::snprintf(proportional, sizeof proportional, "%.3f", *r.proportional_variance_vs_own);
     std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f; variance of an exactly proportional "
-                 "sampler / own's %.3f; for eff/own 2 %s beyond the %.0f ns of eval, weight and environment\n",
-                 r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own,
-                 r.proportional_variance_vs_own.value_or(0.0), budget, r.eval_env_ns.value_or(0.0));
+                 "sampler / own's %s; for eff/own 2 %s beyond the %.0f ns of eval, weight and environment\n",
+                 r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own, proportional, budget,
+                 r.eval_env_ns.value_or(0.0));
   }
 }
 
