@@ -1,6 +1,7 @@
 // btf sample (chi-square picture of one sampler at one wo) and btf bench sampling --quick.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -164,13 +165,19 @@ TEST(BenchSampling, QuickRunWritesTheCsvWithEverySamplerAndCharts) {
       // a zero-cost draw reaches the ceiling, so the budget is eval_env_ns (ceiling / 2 - 1).
       const double eval_env_ns = std::stod(rows[i][24]), budget = std::stod(rows[i][25]);
       EXPECT_GT(eval_env_ns, 0.0) << "eval_env_ns";
-      EXPECT_NEAR(budget, eval_env_ns * (std::stod(rows[i][21]) / 2.0 - 1.0), 1e-4 * eval_env_ns) << "draw_budget_ns_2x";
+      // (The CSV's 6 significant digits: a tolerance relative to the larger of the two terms.)
+      EXPECT_NEAR(budget, eval_env_ns * (std::stod(rows[i][21]) / 2.0 - 1.0), 1e-4 * (std::abs(budget) + eval_env_ns))
+          << "draw_budget_ns_2x";
     } else {
       EXPECT_TRUE(rows[i][21].empty() && rows[i][22].empty() && rows[i][23].empty() && rows[i][24].empty() &&
                   rows[i][25].empty())
           << "ceilings of " << sampler;
     }
+    // ns_per_draw is the estimate's seconds over its draws, in ns: the same factor on every row.
     EXPECT_GT(std::stod(rows[i][26]), 0.0) << "ns_per_draw of " << sampler;
+    EXPECT_NEAR(std::stod(rows[i][8]) / std::stod(rows[i][26]), std::stod(rows[1][8]) / std::stod(rows[1][26]),
+                1e-4 * std::stod(rows[1][8]) / std::stod(rows[1][26]))
+        << "seconds / ns_per_draw of " << sampler;
     EXPECT_GE(std::stod(rows[i][17]), 0.0) << "fcos_rel_variance of " << sampler;
     ++per_view[rows[i][15]];
     if (sampler == "quadtree") {

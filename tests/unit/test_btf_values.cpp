@@ -55,6 +55,7 @@ TEST(BtfValues, StreamGivesValueBitForBitOnEveryForm) {
 // within it; both give value() bit for bit, full groups and a partial last one, here on a small file.
 TEST(BtfValues, BothGroupingsOfTheThreeLevelStreamGiveValueBitForBit) {
   const VqBtf vq = compressVq(test::makeGgxBtf(6, 5, true), {});
+  ASSERT_EQ(vq.options().levels, 3);
   const std::vector<BtfSampleIndex> samples = randomSamples(6, 5, 1001);
   for (bool past_l2 : {false, true}) {
     std::vector<Rgb> out(samples.size(), Rgb(-1.0f));

@@ -98,7 +98,8 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
     if (r.bytes && r.full_cdf_bytes && *r.full_cdf_bytes > 0) std::snprintf(memory, sizeof memory, "%.3f", *r.bytes / *r.full_cdf_bytes);
     if (r.stream_efficiency_vs_own) std::snprintf(stream, sizeof stream, "%.2f", *r.stream_efficiency_vs_own);
     const VarianceVsOwn variance = varianceVsOwn(*own, r);
-    // The draw alone: the estimate's time per draw less the eval, weight and environment at the own draws.
+    // The draw alone, approximately: the estimate's time per draw less the eval, weight and
+    // environment timed at the own draws (separate runs, so timing noise can even make it negative).
     char draw[16] = "";
     if (own->eval_env_ns) std::snprintf(draw, sizeof draw, "%.0f", r.ns_per_draw - *own->eval_env_ns);
     std::fprintf(out, "  %-26s %7.0f %-9s %-9s %8s %10s %9.2f %11s %9.3f %13.3f %8s\n", r.material.c_str(), r.theta_o_deg,
@@ -110,16 +111,13 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
                "proportional to f cos; eff/own and stream/own as above):\n");
   for (const SamplingRow& r : rows) {
     if (!r.ceiling_vs_own || !r.stream_ceiling_vs_own) continue;
-    char budget[96] = "none reaches it";  // the ceiling itself is below 2
+    char budget[96] = "none reaches it";  // the ceiling itself is below the target
     if (r.draw_budget_ns_2x && *r.draw_budget_ns_2x >= 0)
       std::snprintf(budget, sizeof budget, "its draw may take %.0f ns", *r.draw_budget_ns_2x);
-    // Unset when the own sampler has no variance to compare with.
-    char proportional[16] = "n/a";
-    if (r.proportional_variance_vs_own) std::snprintf(proportional, sizeof proportional, "%.3f", *r.proportional_variance_vs_own);
     std::fprintf(out, "  %-26s %7.0f  eff/own <= %.2f, stream/own <= %.2f; variance of an exactly proportional "
-                 "sampler / own's %s; for eff/own 2 %s beyond the %.0f ns of eval, weight and environment\n",
-                 r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own, proportional, budget,
-                 r.eval_env_ns.value_or(0.0));
+                 "sampler / own's %.3f; for eff/own %g %s beyond the %.0f ns of eval, weight and environment\n",
+                 r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own,
+                 r.proportional_variance_vs_own.value_or(0.0), kSingleQueryTarget, budget, r.eval_env_ns.value_or(0.0));
   }
 }
 

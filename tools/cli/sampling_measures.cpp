@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <thread>
 #include <vector>
@@ -181,11 +180,9 @@ EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& w
   const double proportional_variance = albedo * sum_we2 / n - mean * mean;
 
   EfficiencyCeiling c;
-  // A proportional sampler without variance beats any own one that has some (ratio infinite); an
-  // own sampler without variance gives no ratio (0).
-  c.variance_ratio = proportional_variance > 0 ? own_variance / proportional_variance
-                     : own_variance > 0        ? std::numeric_limits<double>::infinity()
-                                               : 0.0;
+  // 0 (no ratio) when either variance vanishes (to rounding): an own sampler without variance
+  // leaves nothing to compare with, and a ceiling from a zero proportional variance is no figure.
+  c.variance_ratio = proportional_variance > 0 && own_variance > 0 ? own_variance / proportional_variance : 0.0;
   c.draws = count;
   c.own_seconds = c.eval_env_seconds = c.eval_many_seconds = 1e300;
   volatile double sink = 0;

@@ -63,6 +63,10 @@ struct SamplingRow {
   std::string group() const;
 };
 
+// The single-query target of the table samplers against a material's own sampler (twice its
+// efficiency): the bench reports the draw time it asks for (draw_budget_ns_2x).
+inline constexpr double kSingleQueryTarget = 2.0;
+
 // The own sampler's row of r's material and view, or null.
 const SamplingRow* ownRowOf(const std::vector<SamplingRow>& rows, const SamplingRow& r);
 

@@ -178,9 +178,10 @@ struct VqBtf::Impl {
   }
 };
 
-// VqBtf::values for three levels (indices checked): groups of samples walked one step at a time
-// (vq_stream.cpp), sized and prefetched for tables past the L2 cache (past_l2) or within it.
-// values() chooses by lookupTableBytes(); the tests run both on small files.
+// VqBtf::values for three levels, after its checks (every index within the BTF, out.size() ==
+// samples.size()): groups of samples walked one step at a time (vq_stream.cpp), sized and
+// prefetched for tables past the L2 cache (past_l2) or within it. values() chooses by
+// lookupTableBytes(); the tests run both on small files.
 void decodeThreeLevelStream(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, std::span<Rgb> out,
                             bool past_l2);
 
