@@ -66,7 +66,8 @@ void runBenchDecode(const Args& a) {
     wi[i] = squareToUniformHemisphere(rng.uniform2D());
     wo[i] = squareToUniformHemisphere(rng.uniform2D());
   }
-  // bench_btf.cpp's model: a glossy lobe of exponent 15 over a diffuse term.
+  // tests/bench/bench_btf.cpp's model (a glossy lobe of exponent 15 over a diffuse term), so that the
+  // two report against one peer; the programs share no library where it could live.
   const Lafortune lafortune(Rgb(0.2f), {LafortuneLobe{Rgb(0.2f), {-0.6f, -0.6f, 0.55f}, 15.0f}});
 
   // What is timed must be right: the stream gives value()'s results bit for bit (its contract), and
