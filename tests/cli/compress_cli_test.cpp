@@ -84,7 +84,9 @@ TEST(CompressCli, Level1CutReachesTheReportAndTheFile) {
                         folder.string()}).exit_code, 0);
   for (const bool cut : {false, true}) {
     const fs::path packed = dir / (cut ? "cut.btfz" : "plain.btfz");
-    std::vector<std::string> args = {"compress", folder.string(), packed.string(), "--epsilon", "0.1", "--levels", "1", "--json"};
+    // The check of the written file against the images is not what this test is about.
+    std::vector<std::string> args = {"compress", folder.string(), packed.string(), "--epsilon", "0.1", "--levels", "1",
+                                     "--no-verify", "--json"};
     if (cut) args.push_back("--level1-cut");
     const CommandResult c = runBtf(args);
     ASSERT_EQ(c.exit_code, 0) << c.output;

@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -357,6 +360,87 @@ TEST(BtfQualityNoiseFloor, RecoversTheNoiseSigma) {
 TEST(BtfQualityNoiseFloor, AllZeroThrows) {
   const BtfData zero(4, 4, "blank btf", BtfViewSet({0}));
   EXPECT_THAT([&] { estimateBtfNoiseFloor(zero); }, testing::ThrowsMessage<Error>(testing::HasSubstr("blank btf")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// compareBtfQuality: the three measures in one pass.
+
+// A source that counts how often each of its views is loaded.
+class CountingSource : public BtfSource {
+ public:
+  explicit CountingSource(const BtfData& data) : data_(data) {}
+  int width() const override { return data_.width(); }
+  int height() const override { return data_.height(); }
+  const BtfViewSet& views() const override { return data_.views(); }
+  void loadView(int view, std::vector<Rgb>& out) const override {
+    ++loads_[view];
+    data_.loadView(view, out);
+  }
+  std::string name() const override { return data_.name(); }
+  int loads(int view) const { return loads_.count(view) ? loads_.at(view) : 0; }
+
+ private:
+  const BtfData& data_;
+  mutable std::map<int, int> loads_;
+};
+
+TEST(BtfQualityAll, EqualsTheThreeMeasuresBitForBitLoadingEveryViewOnce) {
+  // A partial test BTF holding one view more than the reference: only the reference's are read.
+  const BtfData reference_data = makePatternBtf(13, 11, BtfViewSet({0, 9, 40}), "reference");
+  const BtfData noisy = withNoise(reference_data, 0.03, 7);
+  BtfData test_data(13, 11, "test", BtfViewSet({0, 9, 40, 60}));
+  for (const int v : noisy.views().views()) std::copy(noisy.view(v), noisy.view(v) + noisy.viewSize(), test_data.view(v));
+  for (const std::optional<float> white : {std::optional<float>(), std::optional<float>(0.5f)}) {
+    BtfSsimOptions options;
+    options.white = white;
+    options.window = 5;
+    const CountingSource reference(reference_data), test(test_data);
+    const BtfQuality q = compareBtfQuality(reference, test, options);
+    for (const int v : reference_data.views().views()) {
+      // Finding the white when none is given is a pass of its own over the reference.
+      EXPECT_EQ(reference.loads(v), white ? 1 : 2) << "view " << v;
+      EXPECT_EQ(test.loads(v), 1) << "view " << v;
+    }
+    EXPECT_EQ(test.loads(60), 0);
+
+    const BtfErrorStats e = compareBtf(reference_data, test_data);
+    const BtfSsimStats ssim = compareBtfSsim(reference_data, test_data, options);
+    const BtfNoiseFloor noise = estimateBtfNoiseFloor(reference_data);
+    EXPECT_EQ(q.error.rel_rmse, e.rel_rmse);
+    EXPECT_EQ(q.error.psnr_db, e.psnr_db);
+    EXPECT_EQ(q.error.rmse, e.rmse);
+    EXPECT_EQ(q.error.reference_max, e.reference_max);
+    EXPECT_EQ(q.error.entries, e.entries);
+    EXPECT_EQ(q.ssim.mean_ssim, ssim.mean_ssim);
+    EXPECT_EQ(q.ssim.min_image_ssim, ssim.min_image_ssim);
+    EXPECT_EQ(q.ssim.rel_rmse_display, ssim.rel_rmse_display);
+    EXPECT_EQ(q.ssim.white, ssim.white);
+    EXPECT_EQ(q.ssim.images, ssim.images);
+    EXPECT_EQ(q.noise.rel_rmse, noise.rel_rmse);
+    EXPECT_EQ(q.noise.rms_noise, noise.rms_noise);
+    EXPECT_EQ(q.noise.residuals, noise.residuals);
+    EXPECT_GT(q.error.rel_rmse, 0.0);
+    EXPECT_LT(q.ssim.mean_ssim, 1.0);
+  }
+}
+
+TEST(BtfQualityAll, RefusesWhatTheThreeMeasuresRefuse) {
+  const BtfData a = makePatternBtf(8, 8, BtfViewSet({0, 5}), "two views");
+  const BtfData narrower = makePatternBtf(7, 8, BtfViewSet({0, 5}), "seven wide");
+  const BtfData fewer = makePatternBtf(8, 8, BtfViewSet({0}), "one view");
+  const BtfData zero(8, 8, "blank btf", BtfViewSet({0, 5}));
+  using testing::AllOf;
+  using testing::HasSubstr;
+  EXPECT_THAT([&] { compareBtfQuality(a, narrower); },
+              testing::ThrowsMessage<Error>(AllOf(HasSubstr("seven wide"), HasSubstr("two views"))));
+  EXPECT_THAT([&] { compareBtfQuality(a, fewer); },
+              testing::ThrowsMessage<Error>(AllOf(HasSubstr("one view"), HasSubstr("two views"))));
+  BtfSsimOptions bad_window;
+  bad_window.window = 0;
+  EXPECT_THAT([&] { compareBtfQuality(a, a, bad_window); }, testing::ThrowsMessage<Error>(HasSubstr("window")));
+  BtfSsimOptions white;
+  white.white = 1.0f;
+  EXPECT_THAT([&] { compareBtfQuality(zero, a, white); }, testing::ThrowsMessage<Error>(HasSubstr("blank btf")));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -122,6 +123,35 @@ BtfData smallBtf() {
     for (int y = 0; y < 3; ++y)
       for (int x = 0; x < 2; ++x) data.at(x, y, 0, l) = Rgb(0.1f * float(1 + x + y), 0.2f, 0.3f);
   return data;
+}
+
+// decodeExrInCallingThreads sets OpenImageIO's exr_threads to -1, and leaves it as the environment
+// set it when OPENIMAGEIO_OPTIONS names it; an EXR then reads back exactly as before.
+TEST(ImageReading, DecodeExrInCallingThreadsDefersToTheEnvironment) {
+  test::TempDir dir;
+  Image image(19, 7, 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = float(i % 97) * 0.25f;
+  writeImage(dir / "a.exr", image);
+  int before = 0;
+  ASSERT_TRUE(OIIO::getattribute("exr_threads", before));
+  const char* env = std::getenv("OPENIMAGEIO_OPTIONS");
+  const std::string saved = env ? env : "";
+
+  ::setenv("OPENIMAGEIO_OPTIONS", "exr_threads=3", 1);
+  OIIO::attribute("exr_threads", 3);
+  decodeExrInCallingThreads();
+  int threads = 0;
+  ASSERT_TRUE(OIIO::getattribute("exr_threads", threads));
+  EXPECT_EQ(threads, 3);
+
+  ::unsetenv("OPENIMAGEIO_OPTIONS");
+  decodeExrInCallingThreads();
+  ASSERT_TRUE(OIIO::getattribute("exr_threads", threads));
+  EXPECT_EQ(threads, -1);
+  EXPECT_EQ(readImage(dir / "a.exr").pixels, image.pixels);
+
+  OIIO::attribute("exr_threads", before);
+  if (env) ::setenv("OPENIMAGEIO_OPTIONS", saved.c_str(), 1);
 }
 
 TEST(BtfSidecarStrict, TheWritersFactsMustBeWellFormedAndMatchTheImages) {

@@ -53,9 +53,10 @@ void runBtfCompare(const CompareOptions& o) {
     throw Error("compare: --material names a material of a .btfz database, and neither " + o.test + " nor " +
                 o.reference + " is one");
   const BtfInput test = open(o.test), reference = open(o.reference);
-  const BtfErrorStats e = compareBtf(*reference.source, *test.source);
-  const BtfSsimStats ssim = compareBtfSsim(*reference.source, *test.source);
-  const BtfNoiseFloor noise = estimateBtfNoiseFloor(*reference.source);
+  const BtfQuality quality = compareBtfQuality(*reference.source, *test.source);
+  const BtfErrorStats& e = quality.error;
+  const BtfSsimStats& ssim = quality.ssim;
+  const BtfNoiseFloor& noise = quality.noise;
   const nlohmann::json out{{"test", o.test},
                            {"reference", o.reference},
                            {"texels", {reference.source->width(), reference.source->height()}},

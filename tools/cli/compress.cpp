@@ -37,17 +37,15 @@ double rawBytes(const BtfSource& s, double bytes_per_entry) { return double(s.en
 // The error of a compressed material against its input, decoded from the file just written so that
 // the figures are those of what a reader gets.
 void addErrors(const BtfSource& input, const VqBtf& reread, nlohmann::json& report) {
-  const BtfErrorStats e = compareBtf(input, reread);
-  report["rel_rmse"] = e.rel_rmse;
-  report["psnr_db"] = e.psnr_db;
-  const BtfSsimStats ssim = compareBtfSsim(input, reread);
-  report["rel_rmse_display"] = ssim.rel_rmse_display;
-  report["mean_ssim"] = ssim.mean_ssim;
-  report["min_image_ssim"] = ssim.min_image_ssim;
-  report["ssim_white"] = ssim.white;
-  const BtfNoiseFloor noise = estimateBtfNoiseFloor(input);
-  report["noise_rel_rmse"] = noise.rel_rmse;
-  report["rel_rmse_over_noise"] = noise.rel_rmse > 0 ? e.rel_rmse / noise.rel_rmse : 0.0;
+  const BtfQuality q = compareBtfQuality(input, reread);
+  report["rel_rmse"] = q.error.rel_rmse;
+  report["psnr_db"] = q.error.psnr_db;
+  report["rel_rmse_display"] = q.ssim.rel_rmse_display;
+  report["mean_ssim"] = q.ssim.mean_ssim;
+  report["min_image_ssim"] = q.ssim.min_image_ssim;
+  report["ssim_white"] = q.ssim.white;
+  report["noise_rel_rmse"] = q.noise.rel_rmse;
+  report["rel_rmse_over_noise"] = q.noise.rel_rmse > 0 ? q.error.rel_rmse / q.noise.rel_rmse : 0.0;
 }
 
 std::vector<BtfInput> openInputs(const std::vector<std::string>& paths) {

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   btf::cli::registerFitCommand(app);
   btf::cli::registerFitSceneCommand(app);
   btf::tools::installTerminalHooks();
+  btf::decodeExrInCallingThreads();  // BTF folders are read many images at a time (btf/io/image.h)
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,21 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
+#include "btf_compare_pass.h"
 
 namespace btf {
 namespace {
-
-// A source whose views have the wrong length would make the copies below overrun their buffers.
-void requireViewSize(const BtfSource& source, int view, std::size_t size) {
-  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
-  if (size != expected)
-    throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
-                " values, expected " + std::to_string(expected));
-}
 
 const BtfViewSet& allViews() {
   static const BtfViewSet all;
@@ -76,39 +70,64 @@ BtfData BtfData::copyOf(const BtfSource& source) {
   return data;
 }
 
-BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test) {
+void requireViewSize(const BtfSource& source, int view, std::size_t size) {
+  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
+  if (size != expected)
+    throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
+                " values, expected " + std::to_string(expected));
+}
+
+void requireComparableBtfs(const BtfSource& reference, const BtfSource& test) {
   if (reference.width() != test.width() || reference.height() != test.height())
     throw Error("cannot compare " + test.name() + " (" + std::to_string(test.width()) + " x " +
                 std::to_string(test.height()) + " texels) with " + reference.name() + " (" +
                 std::to_string(reference.width()) + " x " + std::to_string(reference.height()) + ")");
   for (const int v : reference.views().views()) test.views().require(v, "cannot compare " + test.name() + " with " + reference.name());
+}
+
+void BtfErrorSums::add(const std::vector<Rgb>& reference, const std::vector<Rgb>& test) {
+  for (std::size_t i = 0; i < reference.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double r = reference[i][c], d = double(test[i][c]) - r;
+      squared_error_ += d * d;
+      squared_reference_ += r * r;
+      max_reference_ = std::max(max_reference_, r);
+    }
+}
+
+BtfErrorStats BtfErrorSums::stats(const BtfSource& reference) const {
+  BtfErrorStats s;
+  s.entries = reference.entryCount();
+  const double n = double(s.entries) * 3.0;
+  if (!(squared_reference_ > 0)) throw Error(reference.name() + ": the reference BTF is all zero; relative errors are undefined");
+  s.rmse = std::sqrt(squared_error_ / n);
+  s.reference_rms = std::sqrt(squared_reference_ / n);
+  s.reference_max = max_reference_;
+  s.rel_rmse = s.rmse / s.reference_rms;
+  s.psnr_db = s.rmse > 0 ? 20.0 * std::log10(max_reference_ / s.rmse) : std::numeric_limits<double>::infinity();
+  return s;
+}
+
+void forEachViewPair(const BtfSource& reference, const BtfSource& test, const std::string& label,
+                     const std::function<void(const std::vector<Rgb>&, const std::vector<Rgb>&)>& add) {
   std::vector<Rgb> a, b;
-  double squared_error = 0, squared_reference = 0, max_reference = 0;
-  Progress progress("comparing " + test.name(), reference.views().count());
+  Progress progress(label, std::uint64_t(reference.views().count()));
   for (const int v : reference.views().views()) {
     reference.loadView(v, a);
     requireViewSize(reference, v, a.size());
     test.loadView(v, b);
     requireViewSize(test, v, b.size());
-    for (std::size_t i = 0; i < a.size(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const double r = a[i][c], d = double(b[i][c]) - r;
-        squared_error += d * d;
-        squared_reference += r * r;
-        max_reference = std::max(max_reference, r);
-      }
+    add(a, b);
     progress.advance();
   }
-  BtfErrorStats s;
-  s.entries = reference.entryCount();
-  const double n = double(s.entries) * 3.0;
-  if (!(squared_reference > 0)) throw Error(reference.name() + ": the reference BTF is all zero; relative errors are undefined");
-  s.rmse = std::sqrt(squared_error / n);
-  s.reference_rms = std::sqrt(squared_reference / n);
-  s.reference_max = max_reference;
-  s.rel_rmse = s.rmse / s.reference_rms;
-  s.psnr_db = s.rmse > 0 ? 20.0 * std::log10(max_reference / s.rmse) : std::numeric_limits<double>::infinity();
-  return s;
+}
+
+BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test) {
+  requireComparableBtfs(reference, test);
+  BtfErrorSums sums;
+  forEachViewPair(reference, test, "comparing " + test.name(),
+                  [&](const std::vector<Rgb>& a, const std::vector<Rgb>& b) { sums.add(a, b); });
+  return sums.stats(reference);
 }
 
 }  // namespace btf

@@ -13,20 +13,13 @@
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
 #include "btf/io/image.h"
+#include "btf_compare_pass.h"
 
 namespace btf {
 namespace {
 
 // Past this many values a median or percentile is taken on a subsample: 64 MiB of floats.
 constexpr std::size_t kMaxSampledValues = std::size_t(1) << 24;
-
-// A source whose views have the wrong length would make the loops below overrun their buffers.
-void requireViewSize(const BtfSource& source, int view, std::size_t size) {
-  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
-  if (size != expected)
-    throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
-                " values, expected " + std::to_string(expected));
-}
 
 bool isPrime(std::size_t n) {
   if (n < 2) return false;
@@ -160,45 +153,26 @@ double imageSsim(SsimScratch& s, int width, int height, int window) {
   return sum / (double(width - wx + 1) * double(height - wy + 1));
 }
 
-}  // namespace
+// The running sums of compareBtfSsim, view by view (images of a view in parallel, summed in image
+// order, so the result does not depend on the thread count).
+class SsimSums {
+ public:
+  SsimSums(const BtfSource& reference, float white, int window)
+      : width_(reference.width()), height_(reference.height()), pixels_(reference.texelCount()), window_(window),
+        inv_white_(1.0f / white), image_ssim_(kBtfDirectionCount), image_error2_(kBtfDirectionCount),
+        image_reference2_(kBtfDirectionCount) {
+    stats_.white = white;
+  }
 
-BtfSsimStats compareBtfSsim(const BtfSource& reference, const BtfSource& test, const BtfSsimOptions& options) {
-  const std::string what = "cannot compare " + test.name() + " with " + reference.name();
-  if (reference.width() != test.width() || reference.height() != test.height())
-    throw Error(what + ": " + test.name() + " has " + sizeText(test) + ", " + reference.name() + " has " +
-                sizeText(reference));
-  for (const int v : reference.views().views()) test.views().require(v, what);
-  if (options.window < 1) throw Error(what + ": the SSIM window (" + std::to_string(options.window) + ") must be >= 1");
-  if (options.white && !positiveFinite(*options.white))
-    throw Error(what + ": the white (" + std::to_string(*options.white) + ") must be a finite value > 0");
-
-  BtfSsimStats stats;
-  stats.white = options.white ? *options.white : defaultWhite(reference);
-  const float inv_white = 1.0f / stats.white;
-  const int width = reference.width(), height = reference.height();
-  const std::size_t pixels = reference.texelCount();
-
-  tbb::enumerable_thread_specific<SsimScratch> scratch;
-  std::vector<double> image_ssim(kBtfDirectionCount);
-  // Per image: squared differences and squares of the displayed reference, over its channels.
-  std::vector<double> image_error2(kBtfDirectionCount), image_reference2(kBtfDirectionCount);
-  double error2 = 0, reference2 = 0;
-  std::vector<Rgb> a, b;
-  double sum = 0;
-  Progress progress("SSIM of " + test.name(), std::uint64_t(reference.views().count()));
-  for (const int v : reference.views().views()) {
-    reference.loadView(v, a);
-    requireViewSize(reference, v, a.size());
-    test.loadView(v, b);
-    requireViewSize(test, v, b.size());
+  void add(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
     tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
-      SsimScratch& s = scratch.local();
-      s.x.resize(pixels);
-      s.y.resize(pixels);
-      const std::size_t first = std::size_t(light) * pixels;
+      SsimScratch& s = scratch_.local();
+      s.x.resize(pixels_);
+      s.y.resize(pixels_);
+      const std::size_t first = std::size_t(light) * pixels_;
       double e2 = 0, r2 = 0;
-      for (std::size_t p = 0; p < pixels; ++p) {
-        const Rgb x = displayed(a[first + p], inv_white), y = displayed(b[first + p], inv_white);
+      for (std::size_t p = 0; p < pixels_; ++p) {
+        const Rgb x = displayed(a[first + p], inv_white_), y = displayed(b[first + p], inv_white_);
         s.x[p] = luma(x);
         s.y[p] = luma(y);
         for (int c = 0; c < 3; ++c) {
@@ -207,64 +181,137 @@ BtfSsimStats compareBtfSsim(const BtfSource& reference, const BtfSource& test, c
           r2 += double(x[c]) * double(x[c]);
         }
       }
-      image_error2[std::size_t(light)] = e2;
-      image_reference2[std::size_t(light)] = r2;
-      image_ssim[std::size_t(light)] = imageSsim(s, width, height, options.window);
+      image_error2_[std::size_t(light)] = e2;
+      image_reference2_[std::size_t(light)] = r2;
+      image_ssim_[std::size_t(light)] = imageSsim(s, width_, height_, window_);
     });
     // In image order, whatever the threads did.
-    for (std::size_t i = 0; i < image_ssim.size(); ++i) {
-      sum += image_ssim[i];
-      stats.min_image_ssim = std::min(stats.min_image_ssim, image_ssim[i]);
-      error2 += image_error2[i];
-      reference2 += image_reference2[i];
+    for (std::size_t i = 0; i < image_ssim_.size(); ++i) {
+      sum_ += image_ssim_[i];
+      stats_.min_image_ssim = std::min(stats_.min_image_ssim, image_ssim_[i]);
+      error2_ += image_error2_[i];
+      reference2_ += image_reference2_[i];
     }
-    stats.images += image_ssim.size();
-    progress.advance();
+    stats_.images += image_ssim_.size();
   }
-  stats.mean_ssim = sum / double(stats.images);
-  stats.rel_rmse_display = reference2 > 0 ? std::sqrt(error2 / reference2) : (error2 > 0 ? HUGE_VAL : 0.0);
-  return stats;
+
+  BtfSsimStats stats() const {
+    BtfSsimStats s = stats_;
+    s.mean_ssim = sum_ / double(s.images);
+    s.rel_rmse_display = reference2_ > 0 ? std::sqrt(error2_ / reference2_) : (error2_ > 0 ? HUGE_VAL : 0.0);
+    return s;
+  }
+
+ private:
+  int width_, height_;
+  std::size_t pixels_;
+  int window_;
+  float inv_white_;
+  tbb::enumerable_thread_specific<SsimScratch> scratch_;
+  // Per image of the current view: SSIM, squared differences and squares of the displayed reference.
+  std::vector<double> image_ssim_, image_error2_, image_reference2_;
+  double sum_ = 0, error2_ = 0, reference2_ = 0;
+  BtfSsimStats stats_;
+};
+
+// The checks of compareBtfSsim before reading anything, and the white it uses.
+float ssimWhite(const BtfSource& reference, const BtfSource& test, const BtfSsimOptions& options) {
+  const std::string what = "cannot compare " + test.name() + " with " + reference.name();
+  if (reference.width() != test.width() || reference.height() != test.height())
+    throw Error(what + ": " + test.name() + " has " + sizeText(test) + ", " + reference.name() + " has " +
+                sizeText(reference));
+  for (const int v : reference.views().views()) test.views().require(v, what);
+  if (options.window < 1) throw Error(what + ": the SSIM window (" + std::to_string(options.window) + ") must be >= 1");
+  if (options.white && !positiveFinite(*options.white))
+    throw Error(what + ": the white (" + std::to_string(*options.white) + ") must be a finite value > 0");
+  return options.white ? *options.white : defaultWhite(reference);
+}
+
+constexpr int kFirstNoiseRing = 1;  // ring 0 is a single light: it has no azimuthal neighbours
+
+// The running state of estimateBtfNoiseFloor, view by view: the squares of the source's values
+// and the (subsampled) residuals against the azimuthal neighbours.
+class NoiseSums {
+ public:
+  explicit NoiseSums(const BtfSource& source)
+      : texels_(source.texelCount()),
+        residuals_(texels_ * std::size_t(source.views().count()) * std::size_t(lightsWithNeighbours()) * 3) {}
+
+  void add(const std::vector<Rgb>& values) {
+    for (const Rgb& rgb : values)
+      for (int c = 0; c < 3; ++c) squares_ += double(rgb[c]) * double(rgb[c]);
+    for (int ring = kFirstNoiseRing; ring < kBtfRingCount; ++ring) {
+      const int n = btfRingSize(ring);
+      for (int azimuth = 0; azimuth < n; ++azimuth) {
+        const Rgb* here = values.data() + std::size_t(btfDirectionIndex(ring, azimuth)) * texels_;
+        const Rgb* before = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + n - 1) % n)) * texels_;
+        const Rgb* after = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + 1) % n)) * texels_;
+        for (std::size_t t = 0; t < texels_; ++t)
+          for (int c = 0; c < 3; ++c) residuals_.offer(std::abs(here[t][c] - 0.5f * (before[t][c] + after[t][c])));
+      }
+    }
+  }
+
+  // Takes the median in place: call once, after the last view.
+  BtfNoiseFloor floor(const BtfSource& source) {
+    const double rms = std::sqrt(squares_ / (double(source.entryCount()) * 3.0));
+    if (!(rms > 0)) throw Error(source.name() + ": the BTF is all zero; its relative noise level is undefined");
+    std::vector<float>& kept = residuals_.kept();
+    const auto middle = kept.begin() + std::ptrdiff_t(kept.size() / 2);
+    std::nth_element(kept.begin(), middle, kept.end());
+    BtfNoiseFloor f;
+    f.residuals = kept.size();
+    f.rms_noise = 1.4826 * double(*middle) / std::sqrt(1.5);
+    f.rel_rmse = f.rms_noise / rms;
+    return f;
+  }
+
+ private:
+  static int lightsWithNeighbours() {
+    int lights = 0;
+    for (int ring = kFirstNoiseRing; ring < kBtfRingCount; ++ring) lights += btfRingSize(ring);
+    return lights;
+  }
+
+  std::size_t texels_;
+  double squares_ = 0;
+  Subsample residuals_;
+};
+
+}  // namespace
+
+BtfSsimStats compareBtfSsim(const BtfSource& reference, const BtfSource& test, const BtfSsimOptions& options) {
+  SsimSums sums(reference, ssimWhite(reference, test, options), options.window);
+  forEachViewPair(reference, test, "SSIM of " + test.name(),
+                  [&](const std::vector<Rgb>& a, const std::vector<Rgb>& b) { sums.add(a, b); });
+  return sums.stats();
 }
 
 BtfNoiseFloor estimateBtfNoiseFloor(const BtfSource& source) {
-  constexpr int kFirstRing = 1;  // ring 0 is a single light: it has no azimuthal neighbours
-  int lights_with_neighbours = 0;
-  for (int ring = kFirstRing; ring < kBtfRingCount; ++ring) lights_with_neighbours += btfRingSize(ring);
-  const std::size_t texels = source.texelCount();
-  Subsample residuals(texels * std::size_t(source.views().count()) * std::size_t(lights_with_neighbours) * 3);
-
-  double squares = 0;
+  NoiseSums sums(source);
   std::vector<Rgb> values;
   Progress progress("estimating the noise of " + source.name(), std::uint64_t(source.views().count()));
   for (const int v : source.views().views()) {
     source.loadView(v, values);
     requireViewSize(source, v, values.size());
-    for (const Rgb& rgb : values)
-      for (int c = 0; c < 3; ++c) squares += double(rgb[c]) * double(rgb[c]);
-    for (int ring = kFirstRing; ring < kBtfRingCount; ++ring) {
-      const int n = btfRingSize(ring);
-      for (int azimuth = 0; azimuth < n; ++azimuth) {
-        const Rgb* here = values.data() + std::size_t(btfDirectionIndex(ring, azimuth)) * texels;
-        const Rgb* before = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + n - 1) % n)) * texels;
-        const Rgb* after = values.data() + std::size_t(btfDirectionIndex(ring, (azimuth + 1) % n)) * texels;
-        for (std::size_t t = 0; t < texels; ++t)
-          for (int c = 0; c < 3; ++c)
-            residuals.offer(std::abs(here[t][c] - 0.5f * (before[t][c] + after[t][c])));
-      }
-    }
+    sums.add(values);
     progress.advance();
   }
-  const double rms = std::sqrt(squares / (double(source.entryCount()) * 3.0));
-  if (!(rms > 0)) throw Error(source.name() + ": the BTF is all zero; its relative noise level is undefined");
+  return sums.floor(source);
+}
 
-  std::vector<float>& kept = residuals.kept();
-  const auto middle = kept.begin() + std::ptrdiff_t(kept.size() / 2);
-  std::nth_element(kept.begin(), middle, kept.end());
-  BtfNoiseFloor floor;
-  floor.residuals = kept.size();
-  floor.rms_noise = 1.4826 * double(*middle) / std::sqrt(1.5);
-  floor.rel_rmse = floor.rms_noise / rms;
-  return floor;
+BtfQuality compareBtfQuality(const BtfSource& reference, const BtfSource& test, const BtfSsimOptions& options) {
+  requireComparableBtfs(reference, test);
+  BtfErrorSums errors;
+  SsimSums ssim(reference, ssimWhite(reference, test, options), options.window);
+  NoiseSums noise(reference);
+  forEachViewPair(reference, test, "measuring " + test.name() + " against " + reference.name(),
+                  [&](const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
+                    errors.add(a, b);
+                    ssim.add(a, b);
+                    noise.add(a);
+                  });
+  return {errors.stats(reference), ssim.stats(), noise.floor(reference)};
 }
 
 }  // namespace btf

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -12,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "btf/core/error.h"
@@ -187,6 +189,12 @@ void setImageSizeLimits(const ImageSizeLimits& limits) {
 }
 
 ImageSizeLimits imageSizeLimits() { return {g_max_side.load(), g_max_pixels.load()}; }
+
+void decodeExrInCallingThreads() {
+  const char* options = std::getenv("OPENIMAGEIO_OPTIONS");
+  if (options && std::string_view(options).find("exr_threads") != std::string_view::npos) return;
+  OIIO::attribute("exr_threads", -1);
+}
 
 void requireImageSizeWithinLimits(const fs::path& path, const OIIO::ImageSpec& spec) {
   const ImageSizeLimits limits = imageSizeLimits();

@@ -56,6 +56,16 @@ struct ImageSizeLimits {
 void setImageSizeLimits(const ImageSizeLimits& limits);
 ImageSizeLimits imageSizeLimits();
 
+// Lets OpenEXR decode in the calling thread instead of its own thread pool (OpenImageIO's
+// process-wide "exr_threads" attribute set to -1), unless the environment's OPENIMAGEIO_OPTIONS
+// already sets exr_threads. libbtf reads the images of a BTF folder many at a time on its own
+// threads (81 per view); OpenEXR's pool then adds nothing but hand-offs of every image's scanline
+// blocks to another thread and back, which on small images cost more than the decoding. (Writing
+// is bound by creating the files, and gains nothing either way.) Process-wide, so libbtf does not
+// do this on its own: a program that mostly reads BTF folders calls it once at start, as `btf`
+// does; one that reads large single EXRs keeps OpenEXR's pool.
+void decodeExrInCallingThreads();
+
 // The sRGB transfer curves (IEC 61966-2-1): encoding a linear value in [0, 1] (clamped; 12.92 x
 // below 0.0031308, 1.055 x^(1/2.4) - 0.055 above) and decoding an encoded one in [0, 1] (clamped).
 float srgbEncode(float linear);
