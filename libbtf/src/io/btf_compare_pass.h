@@ -1,6 +1,6 @@
 // What the measures of one BTF against another share (compareBtf in btf_data.cpp, the measures of
-// btf_quality.cpp): the checks before reading, the pass over the reference's views that loads
-// each view of both once, and compareBtf's running sums, so that compareBtfQuality can feed every
+// btf_quality.cpp): the checks before reading, the passes over a source's views (alone, or the
+// reference's views of both, each loaded once), and compareBtf's running sums, so that compareBtfQuality can feed every
 // measure from a single pass instead of loading the views once per measure.
 #pragma once
 
@@ -19,6 +19,11 @@ void requireViewSize(const BtfSource& source, int view, std::size_t size);
 // The checks compareBtf makes before reading anything: equal sizes and every view of the reference
 // held by the test.
 void requireComparableBtfs(const BtfSource& reference, const BtfSource& test);
+
+// Loads each of the source's views in turn (its views() order, size checked) and hands it to add;
+// progress on a terminal as `label`.
+void forEachView(const BtfSource& source, const std::string& label,
+                 const std::function<void(int view, const std::vector<Rgb>& values)>& add);
 
 // Loads each of the reference's views from both sources, in the reference's order, and hands the
 // two to add; progress on a terminal as `label`.

@@ -59,14 +59,8 @@ void BtfData::loadView(int v, std::vector<Rgb>& out) const {
 BtfData BtfData::copyOf(const BtfSource& source) {
   BtfData data(source.width(), source.height(), source.name(), source.views());
   data.setWhite(source.white());
-  std::vector<Rgb> buffer;
-  Progress progress("reading " + source.name(), source.views().count());
-  for (const int v : source.views().views()) {
-    source.loadView(v, buffer);
-    requireViewSize(source, v, buffer.size());
-    std::copy(buffer.begin(), buffer.end(), data.view(v));
-    progress.advance();
-  }
+  forEachView(source, "reading " + source.name(),
+              [&](int v, const std::vector<Rgb>& values) { std::copy(values.begin(), values.end(), data.view(v)); });
   return data;
 }
 
@@ -106,6 +100,18 @@ BtfErrorStats BtfErrorSums::stats(const BtfSource& reference) const {
   s.rel_rmse = s.rmse / s.reference_rms;
   s.psnr_db = s.rmse > 0 ? 20.0 * std::log10(max_reference_ / s.rmse) : std::numeric_limits<double>::infinity();
   return s;
+}
+
+void forEachView(const BtfSource& source, const std::string& label,
+                 const std::function<void(int, const std::vector<Rgb>&)>& add) {
+  std::vector<Rgb> values;
+  Progress progress(label, std::uint64_t(source.views().count()));
+  for (const int v : source.views().views()) {
+    source.loadView(v, values);
+    requireViewSize(source, v, values.size());
+    add(v, values);
+    progress.advance();
+  }
 }
 
 void forEachViewPair(const BtfSource& reference, const BtfSource& test, const std::string& label,

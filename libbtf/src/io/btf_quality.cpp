@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "btf/core/error.h"
-#include "btf/core/progress.h"
 #include "btf/io/image.h"
 #include "btf_compare_pass.h"
 
@@ -73,18 +72,13 @@ float defaultWhite(const BtfSource& reference) {
   }
   Subsample sample(reference.entryCount() * 3);
   float largest = 0;
-  std::vector<Rgb> values;
-  Progress progress("finding the white of " + reference.name(), std::uint64_t(reference.views().count()));
-  for (const int v : reference.views().views()) {
-    reference.loadView(v, values);
-    requireViewSize(reference, v, values.size());
+  forEachView(reference, "finding the white of " + reference.name(), [&](int, const std::vector<Rgb>& values) {
     for (const Rgb& rgb : values)
       for (int c = 0; c < 3; ++c) {
         sample.offer(rgb[c]);
         largest = std::max(largest, rgb[c]);
       }
-    progress.advance();
-  }
+  });
   std::vector<float>& kept = sample.kept();
   const auto rank = std::size_t(std::ceil(0.999 * double(kept.size())));
   const auto nth = kept.begin() + std::ptrdiff_t(std::max<std::size_t>(rank, 1) - 1);
@@ -289,14 +283,8 @@ BtfSsimStats compareBtfSsim(const BtfSource& reference, const BtfSource& test, c
 
 BtfNoiseFloor estimateBtfNoiseFloor(const BtfSource& source) {
   NoiseSums sums(source);
-  std::vector<Rgb> values;
-  Progress progress("estimating the noise of " + source.name(), std::uint64_t(source.views().count()));
-  for (const int v : source.views().views()) {
-    source.loadView(v, values);
-    requireViewSize(source, v, values.size());
-    sums.add(values);
-    progress.advance();
-  }
+  forEachView(source, "estimating the noise of " + source.name(),
+              [&](int, const std::vector<Rgb>& values) { sums.add(values); });
   return sums.floor(source);
 }
 
