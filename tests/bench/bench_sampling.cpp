@@ -27,7 +27,7 @@
 
 namespace {
 
-struct Query {
+struct SamplingQuery {
   glm::vec3 wo;
   glm::vec2 u;
 };
@@ -44,20 +44,20 @@ btf::SamplerOptions merlSizeOptions(float epsilon, btf::Parameterization paramet
   return o;
 }
 
-struct Fixture {
+struct SamplingFixture {
   std::shared_ptr<const btf::Material> ggx = std::make_shared<btf::Ggx>(btf::Rgb(0.2f), btf::Rgb(0.6f), 0.1f, 0.1f);
   std::shared_ptr<const btf::Material> merl =
       std::make_shared<btf::TabulatedBrdf>(std::make_shared<btf::MerlTable>(btf::tabulate(*ggx)));
-  std::vector<Query> queries;
-  Fixture() {
+  std::vector<SamplingQuery> queries;
+  SamplingFixture() {
     btf::Rng rng(7);
     queries.resize(1 << 16);
-    for (Query& q : queries) q = {btf::squareToCosineHemisphere(rng.uniform2D()), rng.uniform2D()};
+    for (SamplingQuery& q : queries) q = {btf::squareToCosineHemisphere(rng.uniform2D()), rng.uniform2D()};
   }
 };
 
-const Fixture& fixture() {
-  static const Fixture f;
+const SamplingFixture& samplingFixture() {
+  static const SamplingFixture f;
   return f;
 }
 
@@ -71,11 +71,11 @@ void report(benchmark::State& state, const btf::BinnedSampler& s) {
 }
 
 void runDirection(benchmark::State& state, const btf::BinnedSampler& s) {
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   std::size_t i = 0;
   int tries = 0;
   for (auto _ : state) {
-    const Query& k = q[i++ & (q.size() - 1)];
+    const SamplingQuery& k = q[i++ & (q.size() - 1)];
     const auto d = s.sampleDirection(k.wo, k.u, tries);
     if (d) benchmark::DoNotOptimize(s.pdf(d->wi, k.wo));
   }
@@ -83,11 +83,11 @@ void runDirection(benchmark::State& state, const btf::BinnedSampler& s) {
 }
 
 void runDirectionOnly(benchmark::State& state, const btf::BinnedSampler& s) {
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   std::size_t i = 0;
   int tries = 0;
   for (auto _ : state) {
-    const Query& k = q[i++ & (q.size() - 1)];
+    const SamplingQuery& k = q[i++ & (q.size() - 1)];
     benchmark::DoNotOptimize(s.sampleDirection(k.wo, k.u, tries));
   }
   report(state, s);
@@ -97,12 +97,12 @@ void runDirectionOnly(benchmark::State& state, const btf::BinnedSampler& s) {
 // in the L1/L2 cache, so this is the sampler's arithmetic without the cache misses of the random
 // wo above).
 void runDirectionOneWo(benchmark::State& state, const btf::BinnedSampler& s) {
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   const glm::vec3 wo = btf::sphericalDirection(0.6f, 1.0f);
   std::size_t i = 0;
   int tries = 0;
   for (auto _ : state) {
-    const Query& k = q[i++ & (q.size() - 1)];
+    const SamplingQuery& k = q[i++ & (q.size() - 1)];
     const auto d = s.sampleDirection(wo, k.u, tries);
     if (d) benchmark::DoNotOptimize(s.pdf(d->wi, wo));
   }
@@ -112,7 +112,7 @@ void runDirectionOneWo(benchmark::State& state, const btf::BinnedSampler& s) {
 void runPdfOnly(benchmark::State& state, const btf::BinnedSampler& s) {
   // The wi are the sampler's own draws (where a renderer's MIS evaluates the pdf most often);
   // they are drawn before timing.
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   std::vector<glm::vec3> wi(q.size(), glm::vec3(0, 0, 1));
   int tries = 0;
   for (std::size_t k = 0; k < q.size(); ++k)
@@ -126,10 +126,10 @@ void runPdfOnly(benchmark::State& state, const btf::BinnedSampler& s) {
 }
 
 void runFull(benchmark::State& state, const btf::BinnedSampler& s) {
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   std::size_t i = 0;
   for (auto _ : state) {
-    const Query& k = q[i++ & (q.size() - 1)];
+    const SamplingQuery& k = q[i++ & (q.size() - 1)];
     const auto d = s.sample(k.wo, {}, k.u);
     if (d) benchmark::DoNotOptimize(s.pdf(d->wi, k.wo));
   }
@@ -141,7 +141,7 @@ void runFull(benchmark::State& state, const btf::BinnedSampler& s) {
 // random wo (a wavefront renderer's batch); items = queries.
 constexpr std::size_t kStreamBlock = 256;
 void runStream(benchmark::State& state, const btf::BinnedSampler& s, bool with_pdf) {
-  const auto& q = fixture().queries;
+  const auto& q = samplingFixture().queries;
   std::vector<glm::vec3> wo(q.size());
   std::vector<glm::vec2> u(q.size());
   for (std::size_t k = 0; k < q.size(); ++k) wo[k] = q[k].wo, u[k] = q[k].u;
@@ -172,7 +172,7 @@ const btf::BinnedSampler& sampler(btf::SamplerKind kind, bool merl, float epsilo
   const auto key = std::make_tuple(int(kind), merl, epsilon, int(parameterization));
   for (auto& [k, s] : cache)
     if (k == key) return *s;
-  cache.emplace_back(key, btf::makeSampler(kind, merl ? fixture().merl : fixture().ggx,
+  cache.emplace_back(key, btf::makeSampler(kind, merl ? samplingFixture().merl : samplingFixture().ggx,
                                            merlSizeOptions(epsilon, parameterization)));
   return *cache.back().second;
 }
@@ -252,11 +252,11 @@ BENCHMARK_CAPTURE(BM_Memory, merl_dp_eps3e-2, 3e-2f)->Iterations(1);
 
 // The material's own sampler, for scale.
 void BM_FullOwnSampler(benchmark::State& state, bool merl) {
-  const btf::Material& m = merl ? *fixture().merl : *fixture().ggx;
-  const auto& q = fixture().queries;
+  const btf::Material& m = merl ? *samplingFixture().merl : *samplingFixture().ggx;
+  const auto& q = samplingFixture().queries;
   std::size_t i = 0;
   for (auto _ : state) {
-    const Query& k = q[i++ & (q.size() - 1)];
+    const SamplingQuery& k = q[i++ & (q.size() - 1)];
     const auto d = m.sample(k.wo, {}, k.u);
     if (d) benchmark::DoNotOptimize(m.pdf(d->wi, k.wo));
   }

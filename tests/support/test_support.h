@@ -1,6 +1,7 @@
 // Helpers shared by the test programs.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -40,6 +41,14 @@ std::filesystem::path rewriteContainer(const std::filesystem::path& from, const 
 
 // ../shared/data/real, as configured at build time.
 std::filesystem::path sharedDataDir();
+
+// The measured RGL materials of the shared data (file stems) and the path of one of them.
+inline const std::vector<std::string> kRglFiles = {"cc_ibiza_sunset_rgb", "paper_white_rgb", "vch_golden_yellow_rgb"};
+inline std::filesystem::path rglPath(const std::string& stem) { return sharedDataDir() / "rgl_bsdf" / (stem + ".bsdf"); }
+
+// The IEC 61966-2-1 sRGB curves in double, written out here rather than taken from the library.
+inline double srgbDecode(double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); }
+inline double srgbEncode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
 
 // The message of the btf::Error that `call` throws, or "(no error)": for tests of what an error
 // names (another exception type propagates and fails the test).

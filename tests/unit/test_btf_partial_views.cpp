@@ -43,9 +43,8 @@ using test::errorOf;
 
 constexpr int kW = 4, kH = 3;  // not square, so a swapped x/y shows
 
-// The IEC 61966-2-1 curves, in double, written out here rather than taken from the library.
-double srgbDecode(double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); }
-double srgbEncode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
+using test::srgbDecode;
+using test::srgbEncode;
 
 // The views of `full` that `views` names, as a partial BtfData (equal values on those views).
 BtfData subset(const BtfData& full, const BtfViewSet& views, const std::string& name = "partial") {

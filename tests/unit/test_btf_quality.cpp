@@ -17,6 +17,7 @@
 #include "btf/core/error.h"
 #include "btf/io/btf_data.h"
 #include "btf/io/btf_quality.h"
+#include "support/test_support.h"
 
 namespace btf {
 namespace {
@@ -32,7 +33,7 @@ double gaussian(std::mt19937_64& rng) {
 }
 
 // The display transform of btf_quality.h, written out in double.
-double srgbEncode(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+using test::srgbEncode;
 
 double displayLuma(const Rgb& rgb, double white) {
   double encoded[3];

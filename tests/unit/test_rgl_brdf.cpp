@@ -31,11 +31,8 @@ namespace {
 
 using btf::Rgb;
 
-const std::vector<std::string> kRglFiles = {"cc_ibiza_sunset_rgb", "paper_white_rgb", "vch_golden_yellow_rgb"};
-
-std::filesystem::path rglPath(const std::string& stem) {
-  return btf::test::sharedDataDir() / "rgl_bsdf" / (stem + ".bsdf");
-}
+using btf::test::kRglFiles;
+using btf::test::rglPath;
 
 // Loaded once per file for the whole program (construction reads 660 kB and builds the CDFs).
 const btf::RglBrdf& material(const std::string& stem) {

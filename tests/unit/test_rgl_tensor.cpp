@@ -20,9 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kRglFiles = {"cc_ibiza_sunset_rgb", "paper_white_rgb", "vch_golden_yellow_rgb"};
-
-fs::path rglPath(const std::string& stem) { return btf::test::sharedDataDir() / "rgl_bsdf" / (stem + ".bsdf"); }
+using btf::test::kRglFiles;
+using btf::test::rglPath;
 
 std::vector<char> readBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

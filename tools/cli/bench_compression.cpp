@@ -36,6 +36,9 @@
 #include "btf_patterns.h"
 
 namespace btf::cli {
+// Named after the file: the unity build compiles the commands together, and their helpers share
+// names (Args, Row, the figure constants).
+namespace bench_compression {
 namespace {
 
 struct Args {
@@ -382,9 +385,10 @@ void runBenchCompression(const Args& args) {
 }
 
 }  // namespace
+}  // namespace bench_compression
 
 void addBenchCompressionCommand(CLI::App& bench) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<bench_compression::Args>();
   auto* cmd = bench.add_subcommand(
       "compression",
       "Multi-level VQ vs per-view PCA at equal storage on synthetic BTFs: ratio_u8, ratio_f32, rel_rmse, psnr_db, "
@@ -410,7 +414,7 @@ void addBenchCompressionCommand(CLI::App& bench) {
   cmd->add_option("--reference-point", args->reference_point,
                   "A published result to mark on the display-error and SSIM charts: LABEL,REL_RMSE_DISPLAY,MEAN_SSIM,"
                   "RATIO_U8");
-  cmd->callback([args] { runBenchCompression(*args); });
+  cmd->callback([args] { bench_compression::runBenchCompression(*args); });
 }
 
 }  // namespace btf::cli

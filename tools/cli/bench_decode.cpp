@@ -24,6 +24,9 @@
 #include "btf/sampling/warp.h"
 
 namespace btf::cli {
+// Named after the file: the unity build compiles the commands together, and their helpers share
+// names (Args, Row, the figure constants).
+namespace bench_decode {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -126,9 +129,10 @@ void runBenchDecode(const Args& a) {
 }
 
 }  // namespace
+}  // namespace bench_decode
 
 void addBenchDecodeCommand(CLI::App& bench) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<bench_decode::Args>();
   auto* cmd = bench.add_subcommand(
       "decode",
       "Measured samples per second from a .btfz at random (texel, view, light), one at a time and through the stream "
@@ -139,7 +143,7 @@ void addBenchDecodeCommand(CLI::App& bench) {
   cmd->add_option("--repeats", args->repeats, "Passes per measure; the best counts")->capture_default_str();
   cmd->add_option("--seed", args->seed, "Random seed of the samples")->capture_default_str();
   cmd->add_flag("--json", args->json, "Machine-readable output");
-  cmd->callback([args] { runBenchDecode(*args); });
+  cmd->callback([args] { bench_decode::runBenchDecode(*args); });
 }
 
 }  // namespace btf::cli

@@ -36,6 +36,9 @@
 #include "merl_fit_report.h"
 
 namespace btf::cli {
+// Named after the file: the unity build compiles the commands together, and their helpers share
+// names (Args, Row, the figure constants).
+namespace bench_fits {
 namespace {
 
 struct Args {
@@ -220,9 +223,10 @@ void runBenchFits(const Args& args) {
 }
 
 }  // namespace
+}  // namespace bench_fits
 
 void addBenchFitsCommand(CLI::App& bench) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<bench_fits::Args>();
   auto* cmd = bench.add_subcommand(
       "fits",
       "Our Ceres fits beside the published fits of the MERL materials (SGD, ABC, Lafortune), on MERL-layout tables "
@@ -236,7 +240,7 @@ void addBenchFitsCommand(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--fits-dir", args->fits_dir, "Folder of the published fit tables (default: ../shared/data/real/fits)");
-  cmd->callback([args] { runBenchFits(*args); });
+  cmd->callback([args] { bench_fits::runBenchFits(*args); });
 }
 
 }  // namespace btf::cli

@@ -35,6 +35,9 @@
 
 namespace btf::cli {
 namespace fs = std::filesystem;
+// Named after the file: the unity build compiles the commands together, and their helpers share
+// names (Args, Row, the figure constants).
+namespace bench_render {
 namespace {
 
 struct Args {
@@ -216,9 +219,10 @@ void runBenchRender(const Args& a) {
 }
 
 }  // namespace
+}  // namespace bench_render
 
 void addBenchRenderCommand(CLI::App& bench) {
-  auto a = std::make_shared<Args>();
+  auto a = std::make_shared<bench_render::Args>();
   auto* cmd = bench.add_subcommand("render",
                                    "Renderer: rays/s against a bare Embree loop, 1 -> 2 thread scaling, photons/s, kNN of the "
                                    "photon kd-B-tree against nanoflann and FLANN, and the samplers at equal time (CSV, chart)");
@@ -231,7 +235,7 @@ void addBenchRenderCommand(CLI::App& bench) {
   cmd->add_option("--photons", a->photons, "Photons of the search comparison")->capture_default_str();
   cmd->add_option("--queries", a->queries, "Queries of the search comparison")->capture_default_str();
   cmd->add_flag("--quick", a->quick, "Tiny sizes: checks that everything runs, measures nothing");
-  cmd->callback([a] { runBenchRender(*a); });
+  cmd->callback([a] { bench_render::runBenchRender(*a); });
 }
 
 }  // namespace btf::cli

@@ -13,6 +13,9 @@
 #include "text_labels.h"
 
 namespace btf::cli {
+// Named after the file: the unity build compiles the commands together, and their helpers share
+// names (Args, Row, the figure constants).
+namespace plot_command {
 namespace {
 
 struct PlotOptions {
@@ -116,11 +119,12 @@ void runPlot(const PlotOptions& o) {
 }
 
 }  // namespace
+}  // namespace plot_command
 
 void registerPlotCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("plot", "PNG of a BRDF slice (log f*cos over theta_h x theta_d at phi_d = 90 deg) "
                                          "beside a sphere rendered under one directional light");
-  auto o = std::make_shared<PlotOptions>();
+  auto o = std::make_shared<plot_command::PlotOptions>();
   cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json btf fit or .octree)")->required();
   cmd->add_option("-o,--output", o->output, "Output PNG, written atomically")->required();
   cmd->add_option("--size", o->size, "Pixel size of each square panel")->check(CLI::Range(64, 2048))->capture_default_str();
@@ -133,7 +137,7 @@ void registerPlotCommand(CLI::App& app) {
          "--lookup", [o](const std::string& name) { o->lookup = parseLookup(name); },
          "Table lookup: interpolated (default), nearest, or truncated (MERL's own reader)")
       ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
-  cmd->callback([o] { runPlot(*o); });
+  cmd->callback([o] { plot_command::runPlot(*o); });
 }
 
 }  // namespace btf::cli

@@ -28,7 +28,7 @@ static_assert(sizeof(double) == 8 && std::numeric_limits<double>::is_iec559, "ME
 namespace {
 
 constexpr double kHalfPi = std::numbers::pi / 2.0;
-constexpr double kPi = std::numbers::pi;
+constexpr double kPiDouble = std::numbers::pi;
 constexpr std::array<std::int32_t, 3> kDims = {MerlTable::kThetaHalfRes, MerlTable::kThetaDiffRes,
                                                MerlTable::kPhiDiffRes};
 constexpr std::array<const char*, 3> kDimNames = {"theta_h", "theta_d", "phi_d"};
@@ -97,7 +97,7 @@ double MerlTable::thetaHalfOf(int i) {
   return t * t * kHalfPi;
 }
 double MerlTable::thetaDiffOf(int j) { return double(j) * kHalfPi / kThetaDiffRes; }
-double MerlTable::phiDiffOf(int k) { return double(k) * kPi / kPhiDiffRes; }
+double MerlTable::phiDiffOf(int k) { return double(k) * kPiDouble / kPhiDiffRes; }
 
 double MerlTable::thetaHalfCoordinate(double theta_h) {
   // Negative angles only arise from rounding; treat them as the pole rather than returning NaN.
@@ -106,9 +106,9 @@ double MerlTable::thetaHalfCoordinate(double theta_h) {
 double MerlTable::thetaDiffCoordinate(double theta_d) { return theta_d / kHalfPi * kThetaDiffRes; }
 double MerlTable::phiDiffCoordinate(double phi_d) {
   // Reciprocity: f is unchanged under phi_d -> phi_d + pi, so only [0, pi) is stored.
-  double folded = std::fmod(phi_d, kPi);
-  if (folded < 0) folded += kPi;
-  return folded / kPi * kPhiDiffRes;
+  double folded = std::fmod(phi_d, kPiDouble);
+  if (folded < 0) folded += kPiDouble;
+  return folded / kPiDouble * kPhiDiffRes;
 }
 
 MerlTable readMerl(const fs::path& path) {

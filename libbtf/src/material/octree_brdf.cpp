@@ -5,14 +5,12 @@
 
 #include "btf/core/error.h"
 #include "cosine_sampling.h"
+#include "merl_resolution.h"
 #include "table_coordinates.h"
 
 namespace btf {
 namespace {
 
-constexpr int kNh = MerlTable::kThetaHalfRes;
-constexpr int kNd = MerlTable::kThetaDiffRes;
-constexpr int kNp = MerlTable::kPhiDiffRes;
 
 // f of one cell (in double: blends of values near the float limit must not overflow) and whether
 // it is measured.

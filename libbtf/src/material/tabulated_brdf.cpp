@@ -13,14 +13,12 @@
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
 #include "cosine_sampling.h"
+#include "merl_resolution.h"
 #include "table_coordinates.h"
 
 namespace btf {
 namespace {
 
-constexpr int kNh = MerlTable::kThetaHalfRes;
-constexpr int kNd = MerlTable::kThetaDiffRes;
-constexpr int kNp = MerlTable::kPhiDiffRes;
 constexpr std::size_t kCells = MerlTable::kEntriesPerChannel;
 
 inline int nearestIndex(float u, int n) { return std::min(int(u + 0.5f), n - 1); }

@@ -131,12 +131,12 @@ BTF_AVX2 inline void countLe(Gather gather, const __m256i (&start)[kVectors], __
   }
 }
 
-struct Segment {
+struct SegmentLanes {
   __m256 q0, dq, x0, dx;
 };
 
 // segmentAt (16-bit keys): segment k of a CDF with m interior vertices and n grid cells.
-BTF_AVX2 inline Segment segmentAt(const Tables& t, __m256i start, __m256i k, __m256i m, int n) {
+BTF_AVX2 inline SegmentLanes segmentAt(const Tables& t, __m256i start, __m256i k, __m256i m, int n) {
   const __m256i zero = _mm256_setzero_si256();
   const __m256i first = _mm256_cmpeq_epi32(k, zero), last = _mm256_cmpeq_epi32(k, m);
   const __m256i at = _mm256_add_epi32(start, k), before = _mm256_sub_epi32(at, _mm256_set1_epi32(1));
@@ -150,7 +150,7 @@ BTF_AVX2 inline Segment segmentAt(const Tables& t, __m256i start, __m256i k, __m
 }
 
 // invert: the position in grid units, below the segment's end node.
-BTF_AVX2 inline __m256 invert(const Segment& s, __m256 uq) {
+BTF_AVX2 inline __m256 invert(const SegmentLanes& s, __m256 uq) {
   const __m256 t = _mm256_div_ps(_mm256_sub_ps(uq, s.q0), s.dq);
   const __m256 g = _mm256_add_ps(s.x0, _mm256_mul_ps(t, s.dx));
   const __m256 end = _mm256_add_ps(s.x0, s.dx);
@@ -166,12 +166,12 @@ BTF_AVX2 inline __m256 wellInside(__m256 g, float margin) {
 }
 
 // pdfOf: (dq_s / dx_s) (dq_t / dx_t) scale.
-BTF_AVX2 inline __m256 pdfOf(const Segment& s, const Segment& t, float scale) {
+BTF_AVX2 inline __m256 pdfOf(const SegmentLanes& s, const SegmentLanes& t, float scale) {
   return _mm256_mul_ps(_mm256_mul_ps(_mm256_div_ps(s.dq, s.dx), _mm256_div_ps(t.dq, t.dx)), _mm256_set1_ps(scale));
 }
 
 // Whether the grid cell `cell` (a float of an int) lies in the segment: x0 <= cell < x0 + dx.
-BTF_AVX2 inline __m256 inSegment(const Segment& s, __m256 cell) {
+BTF_AVX2 inline __m256 inSegment(const SegmentLanes& s, __m256 cell) {
   return _mm256_and_ps(_mm256_cmp_ps(cell, s.x0, _CMP_GE_OQ), _mm256_cmp_ps(cell, _mm256_add_ps(s.x0, s.dx), _CMP_LT_OQ));
 }
 
@@ -345,8 +345,8 @@ BTF_AVX2 inline void pdfOfSquare(const Tables& t, const __m256i (&bin)[kVectors]
   for (int j = 0; j < V; ++j) n[j] = nt[j];
   countLe(NodeGather{t.nodes16, t.nodes8}, mt, n, col, t.steps, kt);
   for (int j = 0; j < V; ++j) {
-    const Segment seg_s = segmentAt(t, ms[j], ks[j], ns[j], t.nu);
-    const Segment seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
+    const SegmentLanes seg_s = segmentAt(t, ms[j], ks[j], ns[j], t.nu);
+    const SegmentLanes seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
     __m256 p = pdfOf(seg_s, seg_t, t.pdf_scale);
     if constexpr (kHalf) p = _mm256_mul_ps(p, sq[j].factor);
     pdf[j] = _mm256_and_ps(p, sq[j].ok);
@@ -379,7 +379,7 @@ BTF_AVX2 std::uint64_t sampleLanes(const Tables& t, Lanes& l) {
   __m256i n[V];
   for (int j = 0; j < V; ++j) n[j] = ns[j];
   countLe(KeyGather{t.keys}, ms, n, key, t.steps, ks);
-  Segment seg_s[V];
+  SegmentLanes seg_s[V];
   __m256 gs[V], s[V];
   __m256i row[V];
   for (int j = 0; j < V; ++j) {
@@ -397,7 +397,7 @@ BTF_AVX2 std::uint64_t sampleLanes(const Tables& t, Lanes& l) {
   countLe(KeyGather{t.keys}, mt, n, key, t.steps, kt);
   std::uint64_t near_border = 0;
   for (int j = 0; j < V; ++j) {
-    const Segment seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
+    const SegmentLanes seg_t = segmentAt(t, mt[j], kt[j], nt[j], t.nv);
     const __m256 gt = invert(seg_t, ut[j]);
     const __m256 tt = _mm256_div_ps(gt, fnv);
     const Vec3 wo = loadVec3(l.ox + 8 * j, l.oy + 8 * j, l.oz + 8 * j);

@@ -101,11 +101,11 @@ inline unsigned countLe(const Key* p, unsigned n, Value v, int steps) {
 // (node 0, value 0) and (node n, value top). The loads are unconditional (the arrays are padded),
 // the selections arithmetic (k == 0 or k == m is data-dependent: a branch would be mispredicted).
 template <class Key>
-struct Segment {
+struct CdfSegment {
   float q0, dq, x0, dx;
 };
 template <class Key, class Node>
-inline Segment<Key> segmentAt(const Key* q, const Node* x, unsigned k, unsigned m, int n) {
+inline CdfSegment<Key> segmentAt(const Key* q, const Node* x, unsigned k, unsigned m, int n) {
   const unsigned not_first = unsigned(k != 0), last = unsigned(k == m);
   const int xa = int(x[int(k) - 1] * not_first), xk = x[k], xb = xk + int(last) * (n - xk);
   float qa, qb;
@@ -126,7 +126,7 @@ inline float pdfOf(float dq_s, float dx_s, float dq_t, float dx_t, float scale) 
 
 // Draws inside the segment of u: the position in grid units (within [x0, x1) of the segment).
 template <class Key>
-inline float invert(const Segment<Key>& seg, float uq) {
+inline float invert(const CdfSegment<Key>& seg, float uq) {
   const float t = (uq - seg.q0) / seg.dq;  // in [0, 1): q0 <= uq < q0 + dq
   const float g = seg.x0 + t * seg.dx, end = seg.x0 + seg.dx;
   // Stay below the segment's end node (a positive integer: its float below is its bits - 1).
@@ -260,8 +260,8 @@ BTF_ALWAYS_INLINE float DpCdfSampler::pdfImpl(std::size_t bin, glm::vec2 st, con
   const Node* x = nodes<Node>();
   const unsigned ks = countLe(x + ms, ns, unsigned(row), search_steps_);
   const unsigned kt = countLe(x + mt, nt, unsigned(col), search_steps_);
-  const Segment<Key> s = segmentAt(q + ms, x + ms, ks, ns, nu_);
-  const Segment<Key> t = segmentAt(q + mt, x + mt, kt, nt, nv_);
+  const CdfSegment<Key> s = segmentAt(q + ms, x + ms, ks, ns, nu_);
+  const CdfSegment<Key> t = segmentAt(q + mt, x + mt, kt, nt, nv_);
   return pdfOf(s.dq, s.dx, t.dq, t.dx, pdf_scale_);
 }
 
@@ -294,14 +294,14 @@ BTF_ALWAYS_INLINE std::optional<BinnedSampler::DirectionSample> DpCdfSampler::sa
   // Marginal: segment, position in grid units, row.
   const std::uint32_t ms = starts[0], ns = starts[1] - ms;
   const unsigned ks = countLe(keys_ + ms, ns, searchKey(us), search_steps_);
-  const Segment<Key> seg_s = segmentAt(keys_ + ms, nodes + ms, ks, ns, nu_);
+  const CdfSegment<Key> seg_s = segmentAt(keys_ + ms, nodes + ms, ks, ns, nu_);
   const float gs = invert(seg_s, us);
   const float s = gs / float(nu_);
   const int row = std::min(int(s * float(nu_)), nu_ - 1);  // rowOf(s), as pdf() takes it
   // The row's conditional.
   const std::uint32_t mt = starts[1 + row], nt = starts[2 + row] - mt;
   const unsigned kt = countLe(keys_ + mt, nt, searchKey(ut), search_steps_);
-  const Segment<Key> seg_t = segmentAt(keys_ + mt, nodes + mt, kt, nt, nv_);
+  const CdfSegment<Key> seg_t = segmentAt(keys_ + mt, nodes + mt, kt, nt, nv_);
   const float gt = invert(seg_t, ut);
   const float t = gt / float(nv_);
   const bool half = parameterization() == Parameterization::Half;

@@ -10,12 +10,11 @@
 #include "btf/core/error.h"
 #include "btf/core/fast_trig.h"
 #include "btf/core/math.h"
+#include "../material/merl_resolution.h"
 
 namespace btf {
 namespace {
 
-constexpr int kNd = MerlTable::kThetaDiffRes;
-constexpr int kNp = MerlTable::kPhiDiffRes;
 constexpr double kDegree = std::numbers::pi / 180.0;
 // Margins, in degrees, for the float rounding of the angles a query computes (about 1e-5 degree).
 constexpr double kAngleMargin = 1e-3;
