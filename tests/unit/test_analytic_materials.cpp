@@ -81,9 +81,10 @@ std::vector<glm::vec3> viewDirections() {
 
 float relativeDifference(float a, float b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-20f}); }
 
+// The parameterized tests stay in this anonymous namespace with their fixture: a test class
+// outside it deriving from a fixture inside it is a -Wsubobject-linkage warning once the unity
+// build includes this file into another.
 class AnalyticMaterial : public ::testing::TestWithParam<MaterialCase> {};
-
-}  // namespace
 
 TEST_P(AnalyticMaterial, SamplerPassesChi2) {
   // 500,000 draws per view, 20 x 40 cells, significance 0.01, seed 1.
@@ -163,6 +164,8 @@ TEST_P(AnalyticMaterial, ReportsAnisotropyAndANameWithItsParameters) {
 
 INSTANTIATE_TEST_SUITE_P(Models, AnalyticMaterial, ::testing::ValuesIn(materialCases()),
                          [](const auto& info) { return info.param.label; });
+
+}  // namespace
 
 // The energy-conservation claims at their limits: albedos summing to 1, smooth and rough, and the
 // grazing views where Fresnel and the Ward normalization are strongest. 100,000 draws per view,

@@ -37,7 +37,7 @@
 
 namespace btf::cli {
 // Named after the file: the unity build compiles the commands together, and their helpers share
-// names (Args, Row, the figure constants).
+// names (Args, Row).
 namespace bench_compression {
 namespace {
 

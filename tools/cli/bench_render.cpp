@@ -36,7 +36,7 @@
 namespace btf::cli {
 namespace fs = std::filesystem;
 // Named after the file: the unity build compiles the commands together, and their helpers share
-// names (Args, Row, the figure constants).
+// names (Args, Row).
 namespace bench_render {
 namespace {
 

@@ -8,6 +8,7 @@
 #include "btf/core/math.h"
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
+#include "figure_canvas.h"
 #include "measured_file.h"
 #include "plot_figures.h"
 #include "text_labels.h"
@@ -33,19 +34,11 @@ constexpr int kMarginLeft = 76;      // y tick labels and the vertical axis titl
 constexpr int kMarginTop = 44;       // panel titles
 constexpr int kMarginBottom = 64;    // x tick labels and axis title
 constexpr int kColorBarGap = 12, kColorBarWidth = 14, kColorBarLabels = 70, kPanelGap = 28, kMarginRight = 20;
-const Rgb kInk(0.92f), kPaper(0.12f);
 
 void blit(Image& dst, const Image& src, int x0, int y0) {
   for (int y = 0; y < src.height; ++y)
     for (int x = 0; x < src.width; ++x)
       for (int c = 0; c < 3; ++c) dst.at(x0 + x, y0 + y, c) = src.at(x, y, c);
-}
-
-void fillRect(Image& image, int x0, int y0, int w, int h, const Rgb& color) {
-  for (int y = y0; y < y0 + h; ++y)
-    for (int x = x0; x < x0 + w; ++x)
-      if (x >= 0 && y >= 0 && x < image.width && y < image.height)
-        for (int c = 0; c < 3; ++c) image.at(x, y, c) = color[c];
 }
 
 std::string formatNumber(float v, int decimals) {

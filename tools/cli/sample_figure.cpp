@@ -7,6 +7,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/math.h"
+#include "figure_canvas.h"
 #include "plot_figures.h"
 #include "text_labels.h"
 
@@ -21,13 +22,6 @@ constexpr int kAxisLabels = 52, kBarHeight = 14, kBarLabels = 40, kFooter = 40;
 constexpr float kDecades = 3.0f;
 // Differences are clipped at this many standard deviations.
 constexpr float kSigmaRange = 4.0f;
-const Rgb kInk(0.92f), kPaper(0.12f);
-
-void fillRect(Image& image, int x0, int y0, int w, int h, const Rgb& color) {
-  for (int y = std::max(0, y0); y < std::min(image.height, y0 + h); ++y)
-    for (int x = std::max(0, x0); x < std::min(image.width, x0 + w); ++x)
-      for (int c = 0; c < 3; ++c) image.at(x, y, c) = color[c];
-}
 
 std::string format(const char* pattern, double v) {
   char text[48];

@@ -97,7 +97,7 @@ demo() {
     echo "   and judged by rel_rmse, SSIM and its own noise floor"
     "$bin/btf" info "$real/btf/ubo2003_wallpaper_view000"
     "$bin/btf" compress "$real/btf/ubo2003_wallpaper_view000" "$out/wallpaper-view000.btfz" --epsilon 0.2 --levels 2 \
-      --chroma-epsilon 0.2
+      --chroma-epsilon 0.2 --level1-cut
     echo "== a material database: the RGL materials and MERL fits as one-texel BTFs, sharing codebooks, against"
     echo "   each compressed alone; then two files compressed apart, joined losslessly by btf merge"
     "$bin/btf" compress "$real"/rgl_bsdf/*.bsdf merl-fit:sgd:alum-bronze merl-fit:sgd:blue-acrylic \

@@ -29,17 +29,11 @@
 #include "btf/sampling/dp_cdf_sampler.h"
 
 namespace btf {
-namespace {
 
-using namespace avx2;
-
-// Queries per step: four vectors of eight, interleaved step by step, so that one vector's gathers
-// run while another waits for its own (the searches are chains of dependent gathers; eight
-// vectors measured no faster than four).
-constexpr int kVectors = 4;
-constexpr int kLanes = 8 * kVectors;
-static_assert(kLanes <= 64, "lane masks are 64-bit");
-
+// The tables as the lanes read them; named rather than file-local, since DpCdfSampler::LaneTables
+// (declared in the public header) derives from it, and a base in an anonymous namespace is a
+// -Wsubobject-linkage warning once the unity build includes this file into another.
+namespace dp_cdf_lanes {
 struct Tables {
   const std::uint16_t* keys;
   const std::uint16_t* nodes16;  // one of the two is null
@@ -51,6 +45,19 @@ struct Tables {
   int nu, nv, steps;
   float pdf_scale;
 };
+}  // namespace dp_cdf_lanes
+
+namespace {
+
+using namespace avx2;
+using dp_cdf_lanes::Tables;
+
+// Queries per step: four vectors of eight, interleaved step by step, so that one vector's gathers
+// run while another waits for its own (the searches are chains of dependent gathers; eight
+// vectors measured no faster than four).
+constexpr int kVectors = 4;
+constexpr int kLanes = 8 * kVectors;
+static_assert(kLanes <= 64, "lane masks are 64-bit");
 
 // One block of queries, structure of arrays.
 struct Lanes {
@@ -504,7 +511,7 @@ void forEachBlock(std::size_t n, Lanes& l, Load load, Run run, Store store) {
 
 }  // namespace
 
-struct DpCdfSampler::LaneTables : Tables {};
+struct DpCdfSampler::LaneTables : dp_cdf_lanes::Tables {};
 
 DpCdfSampler::LaneTables DpCdfSampler::laneTables() const {
   const ThetaBinTable theta = thetaBinTable();

@@ -63,8 +63,8 @@ class BtfLookup {
   virtual Rgb value(int x, int y, int view, int light) const = 0;
   // A stream of lookups (after Embree's stream calls): out[i] = value(samples[i]), bit for bit.
   // Throws btf::Error for spans of different sizes, an index outside the BTF or a view it does not
-  // hold (naming it). The
-  // default loops; VqBtf decodes 32 samples per step in AVX2 lanes where the CPU has them.
+  // hold (naming it). The default loops; a three-level VqBtf walks groups of samples one level at
+  // a time, so that their table loads overlap (vq_stream.cpp).
   virtual void values(std::span<const BtfSampleIndex> samples, std::span<Rgb> out) const;
 
  protected:
