@@ -75,6 +75,31 @@ TEST(CompressCli, EnergyFloorReachesTheFile) {
   EXPECT_FALSE(fs::exists(refused));
 }
 
+// --no-level3-exceptions reaches the library and the report: a print through the camera (noisy
+// near-twin texels) has derived level-3 entries by default and none with the flag.
+TEST(CompressCli, NoLevel3ExceptionsReachesTheReportAndTheFile) {
+  TempDir dir;
+  const fs::path folder = dir / "print";
+  ASSERT_EQ(runDatagen({"btf", "--pattern", "print", "--camera", "--size", "16", "--seed", "1", "-o", folder.string()}).exit_code,
+            0);
+  for (const bool exceptions : {true, false}) {
+    const fs::path packed = dir / (exceptions ? "derived.btfz" : "whole.btfz");
+    std::vector<std::string> args = {"compress", folder.string(), packed.string(), "--epsilon", "0.2", "--chroma-epsilon",
+                                     "0.25", "--no-verify", "--json"};
+    if (!exceptions) args.push_back("--no-level3-exceptions");
+    const CommandResult c = runBtf(args);
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    EXPECT_EQ(parseJsonOutput(c)["level3_exceptions"].get<bool>(), exceptions);
+    const CommandResult info = runBtf({"info", packed.string()});
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    if (exceptions) {
+      EXPECT_THAT(info.output, HasSubstr("level3/parent"));
+    } else {
+      EXPECT_THAT(info.output, Not(HasSubstr("level3/parent")));
+    }
+  }
+}
+
 // --level1-cut reaches the library and the report: the file then carries level-1 bases (16 x 16
 // texels: enough for ring 1's), and without it none, as files were before.
 TEST(CompressCli, Level1CutReachesTheReportAndTheFile) {

@@ -158,6 +158,19 @@ void btfz(const fs::path& out) {
   const btf::BtfSource* sources[] = {&a, &b};
   btf::compressVqDatabase(sources, {"a", "b"}, options).write(scratch);
   put(out / "database.btfz", bytesOf(scratch));
+  // A texel that repeats the other but in one view (1.3 times as bright there): level 3 stores
+  // it as a derived entry (compress/vq_impl.h), so the reader's exception sections are reached.
+  btf::BtfData twins = makeBtf(2, 1, btf::BtfViewSet::upToTheta(30.0f), "twins");
+  const int odd_view = twins.views().view(3);
+  for (int view : twins.views().views())
+    for (int light = 0; light < btf::kBtfDirectionCount; ++light) {
+      btf::Rgb c = twins.at(0, 0, view, light);
+      if (view == odd_view) c *= 1.3f;
+      twins.at(1, 0, view, light) = c;
+    }
+  options.epsilon = 0.05f;
+  btf::compressVq(twins, options).write(scratch);
+  put(out / "derived-2x1.btfz", bytesOf(scratch));
   // 12 x 12 texels: enough lit vectors for ring 1's level-1 basis (vq_basis.h), so the reader's
   // basis and coefficient sections are reached.
   options.levels = 1;

@@ -5,6 +5,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "btf/compress/vq_btf.h"
@@ -67,6 +68,41 @@ TEST(BtfValues, BothGroupingsOfTheThreeLevelStreamGiveValueBitForBit) {
             << "sample " << i << (past_l2 ? ", tables past L2" : ", tables within L2");
     }
   }
+}
+
+// Lookups decode level-3 scale codes through lookupVqScale (vq_impl.h), the reader's tables through
+// decodeVqScale: the same float for every code.
+TEST(BtfValues, LookupScaleIsTheStoredScaleForEveryCode) {
+  for (std::uint32_t q = 0; q <= 0xffff; ++q)
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(lookupVqScale(std::uint16_t(q))),
+              std::bit_cast<std::uint32_t>(decodeVqScale(std::uint16_t(q))))
+        << "code " << q;
+}
+
+// Level 3's table in its two forms (4-byte records while level 2 has at most 2^16 entries, else
+// entry and float scale): the same values through value(), values() and both groupings.
+TEST(BtfValues, BothFormsOfTheLevelThreeTableDecodeAlike) {
+  const VqBtf packed = compressVq(test::makeGgxBtf(6, 5, true), {});
+  ASSERT_FALSE(packed.impl().l3_packed.empty());
+  ASSERT_TRUE(packed.impl().l3_codes.empty());
+  auto wide_impl = std::make_shared<VqBtf::Impl>(packed.impl());
+  for (const VqBtf::Impl::PackedIndex& p : wide_impl->l3_packed)
+    wide_impl->l3_codes.push_back({p.entry, decodeVqScale(p.scale)});
+  wide_impl->l3_packed.clear();
+  const VqBtf wide(wide_impl);
+  EXPECT_GT(wide.lookupTableBytes(), packed.lookupTableBytes());
+  const std::vector<BtfSampleIndex> samples = randomSamples(6, 5, 1001);
+  std::vector<Rgb> a(samples.size()), b(samples.size());
+  for (bool past_l2 : {false, true}) {
+    decodeThreeLevelStream(packed.impl(), samples, a, past_l2);
+    decodeThreeLevelStream(wide.impl(), samples, b, past_l2);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const auto [x, y, view, light] = samples[i];
+      ASSERT_EQ(a[i], b[i]) << "sample " << i;
+      ASSERT_EQ(packed.value(x, y, view, light), wide.value(x, y, view, light)) << "sample " << i;
+    }
+  }
+  expectStreamMatchesValue(wide, 6, 5);
 }
 
 TEST(BtfValues, RejectsIndicesOutsideTheBtfAndSpansOfDifferentSizes) {

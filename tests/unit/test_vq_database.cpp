@@ -248,6 +248,12 @@ TEST(VqDatabase, ReaderRejectsDamagedDatabases) {
                 replaceFirst(t, "\"materials\":[", list);
               }),
               "more than its sections");
-  expectError(editHeader("version", [&](std::string& t) { replaceFirst(t, "\"format_version\":1", "\"format_version\":7"); }),
+  expectError(editHeader("version",
+                         [&](std::string& t) {
+                           const std::string key = "\"format_version\":";
+                           const std::size_t at = t.find(key);
+                           ASSERT_NE(at, std::string::npos);
+                           t[at + key.size()] = '7';  // a single digit: 1..3 written
+                         }),
               "version 7");
 }

@@ -77,6 +77,7 @@ void runCompress(const CompressArgs& args) {
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"energy_floor", args.vq.energy_floor},
                         {"level1_cut", args.vq.level1_cut},
+                        {"level3_exceptions", args.vq.level3_exceptions},
                         {"levels", args.vq.levels},
                         {"codebook_entries", compressed.stats().codebook_entries},
                         {"bytes", bytes},
@@ -130,6 +131,7 @@ void runCompressDatabase(const CompressArgs& args) {
                         {"chroma_epsilon", args.vq.chroma_epsilon},
                         {"energy_floor", args.vq.energy_floor},
                         {"level1_cut", args.vq.level1_cut},
+                        {"level3_exceptions", args.vq.level3_exceptions},
                         {"levels", args.vq.levels},
                         {"shared_codebook_entries", database.sharedEntries()},
                         {"bytes", bytes},
@@ -248,6 +250,9 @@ void registerCompressCommands(CLI::App& app) {
   cmd->add_flag("--level1-cut", args->vq.level1_cut,
                "Code level-1 entries in a principal basis of their ring, each cut to the leading coefficients its "
                "tolerance needs: smaller files at equal error on noisy measured data, larger on clean synthetic data");
+  cmd->add_flag("!--no-level3-exceptions", args->vq.level3_exceptions,
+               "Store every level-3 entry whole: no texel takes a nearly matching entry with its own codes in a few "
+               "views (larger files, smaller decoded tables)");
   cmd->add_option("--levels", args->vq.levels, "Quantization levels: 1 (1D functions), 2 (+ light slices), 3 (+ texels)")
       ->capture_default_str()
       ->check(CLI::Range(1, 3));

@@ -66,6 +66,9 @@ namespace {
 
 constexpr std::uint32_t kNoChroma = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kCandidates = 8;
+// Level 3's derived entries (Compressor::nearestWithExceptions): the candidates examined. 64
+// within three times the radius gained under 1 % on the calibrated print (README).
+constexpr std::size_t kExceptionCandidates = 32;
 
 // The first of up to max_matches codebook entries within radius of query (nearest first) that
 // passes(entry index) accepts, or -1. The candidate list is per thread: searches run in parallel.
@@ -191,7 +194,8 @@ class Compressor {
       l3_.emplace(int(views_));
       l3_norm2_.clear();
       std::vector<std::uint32_t> e(views_, 0);
-      std::vector<std::uint16_t> sc(views_, encodeVqScale(1.0f / std::sqrt(float(views_))));
+      // At the stored precision: derived entries (vq_impl.h) may copy its codes.
+      std::vector<std::uint16_t> sc(views_, encodeVqScale(1.0f / std::sqrt(float(views_)), precision_.scale_shift));
       addLevel3Entry(e.data(), sc.data());
     }
     const std::size_t T = texels_, V = views_;
@@ -529,7 +533,8 @@ class Compressor {
   }
 
   // ---- level 3 -------------------------------------------------------------------------------
-  std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc) {
+  // `parent`: the entry this one repeats outside its exception views (vq_impl.h), or none.
+  std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc, std::optional<std::uint32_t> parent = {}) {
     float key[kBtfDirectionCount];
     double y2 = 0;
     for (std::size_t v = 0; v < views_; ++v) {
@@ -538,6 +543,7 @@ class Compressor {
     }
     out_->l3_index.insert(out_->l3_index.end(), e2, e2 + views_);
     out_->l3_scale.insert(out_->l3_scale.end(), sc, sc + views_);
+    out_->l3_parent.push_back(parent ? *parent + 1 : 0);
     l3_norm2_.push_back(float(y2));
     return l3_->add(std::span<const float>(key, views_));
   }
@@ -556,22 +562,31 @@ class Compressor {
       const std::size_t k = t * views_ + v;
       const float s = decodeVqScale(view_scale_[k]);
       const std::uint32_t a = view_index_[k], b = out_->l3_index[std::size_t(entry) * views_ + v];
-      if (s > 0)
-        for (int r = 0; r < kBtfRingCount; ++r) {
-          const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
-          const std::uint32_t c = books_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
-          // The slice's own level-2 entry's chroma passed level 2's test against the data.
-          if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
-            chroma_err += double(s) * s * level3ChromaError(c, own, a, r);
-        }
+      chroma_err += level3ViewChromaError(k, s, a, b);
       if (s == 0 || q[v] == 0) continue;
       const double ab = a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
       xy += double(s) * q[v] * ab;
     }
-    const double floor = double(options_.energy_floor) * texel_rms_;
-    const double tol2 = double(options_.chroma_epsilon) * options_.chroma_epsilon * std::max(texel_norm2_[t], floor * floor);
-    if (chroma_err > tol2) return std::nullopt;
+    if (chroma_err > level3ChromaTolerance2(t)) return std::nullopt;
     return xy;
+  }
+  // The chroma term of level3Dot for one view: slot k = t * views_ + v of texel t, whose slice has
+  // level-2 entry a at scale s, against level-2 entry b.
+  double level3ViewChromaError(std::size_t k, float s, std::uint32_t a, std::uint32_t b) const {
+    double err = 0;
+    if (s > 0)
+      for (int r = 0; r < kBtfRingCount; ++r) {
+        const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
+        const std::uint32_t c = books_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
+        // The slice's own level-2 entry's chroma passed level 2's test against the data.
+        if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
+          err += double(s) * s * level3ChromaError(c, own, a, r);
+      }
+    return err;
+  }
+  double level3ChromaTolerance2(std::size_t t) const {
+    const double floor = double(options_.energy_floor) * texel_rms_;
+    return double(options_.chroma_epsilon) * options_.chroma_epsilon * std::max(texel_norm2_[t], floor * floor);
   }
   // sum_a y_a^2 |e_a - o_a|^2 over ring r's lights: chroma entries `entry` and `own` weighted by
   // the luminance y of level-2 entry a (unscaled).
@@ -587,6 +602,59 @@ class Compressor {
     }
     return err;
   }
+  // The fewest views of entry `entry` to replace with texel t's own codes so that the rest passes
+  // level 3's tests for t (the tests of level3Passes, restricted to the views kept): greedily, the
+  // view whose error uses the most of the tolerances first, refitting the texel's scale after each.
+  // Its own codes reconstruct a replaced view as level 2 left it, so it adds no level-3 error.
+  struct Level3Exceptions {
+    std::vector<std::uint32_t> views;  // slots, ascending
+    double scale = 0;                  // the texel's scale on the kept views
+  };
+  std::optional<Level3Exceptions> level3Exceptions(std::size_t t, std::uint32_t entry, std::size_t max_views) const {
+    const std::size_t V = views_;
+    std::array<double, kBtfDirectionCount> x2, y2, xy, chroma;
+    const float* q = l3_->entry(entry);
+    for (std::size_t v = 0; v < V; ++v) {
+      const std::size_t k = t * V + v;
+      const double s = decodeVqScale(view_scale_[k]);
+      const std::uint32_t a = view_index_[k], b = out_->l3_index[std::size_t(entry) * V + v];
+      x2[v] = s * s * l2_norm2_[a];
+      y2[v] = double(q[v]) * q[v] * l2_norm2_[b];
+      xy[v] = s == 0 || q[v] == 0 ? 0.0
+                                  : s * q[v] * (a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount));
+      chroma[v] = level3ViewChromaError(k, float(s), a, b);
+    }
+    const double texel2 = texel_norm2_[t];
+    const double tol = tolerance(std::sqrt(texel2), texel_rms_);
+    const double lum_tol2 = tol * tol * texel2;
+    const double chroma_tol2 = level3ChromaTolerance2(t);
+    if (!(lum_tol2 > 0) || !(chroma_tol2 > 0)) return std::nullopt;
+    std::array<bool, kBtfDirectionCount> kept;
+    kept.fill(true);
+    Level3Exceptions out;
+    for (;;) {
+      double sx2 = 0, sy2 = 0, sxy = 0, sch = 0;
+      for (std::size_t v = 0; v < V; ++v)
+        if (kept[v]) sx2 += x2[v], sy2 += y2[v], sxy += xy[v], sch += chroma[v];
+      const double c = sy2 > 0 ? sxy / sy2 : 0.0;
+      if (c > 0 && sx2 - sxy * c <= lum_tol2 && sch <= chroma_tol2) {
+        std::sort(out.views.begin(), out.views.end());
+        out.scale = c;
+        return out;
+      }
+      if (out.views.size() == max_views) return std::nullopt;
+      std::size_t worst = V;
+      double worst_share = -1;
+      for (std::size_t v = 0; v < V; ++v) {
+        if (!kept[v]) continue;
+        const double share = std::max(0.0, x2[v] - 2 * c * xy[v] + c * c * y2[v]) / lum_tol2 + chroma[v] / chroma_tol2;
+        if (share > worst_share) worst_share = share, worst = v;
+      }
+      if (worst == V) return std::nullopt;
+      kept[worst] = false;
+      out.views.push_back(std::uint32_t(worst));
+    }
+  }
   bool level3Passes(std::size_t t, std::uint32_t entry) const {
     const auto xy = level3Dot(t, entry);
     if (!xy) return false;
@@ -595,6 +663,41 @@ class Compressor {
     const double err2 = 1.0 - (*xy * *xy) / (x2 * y2);
     const double tol = tolerance(std::sqrt(x2), texel_rms_);
     return err2 <= tol * tol;
+  }
+
+  // For a texel no entry passes (with VqOptions::level3_exceptions): the entry among the kExceptionCandidates nearest (within twice
+  // the search radius) that passes with the fewest exception views, at most
+  // kVqMaxExceptionShare of them (vq_impl.h), and those views. An entry that then needs none was
+  // missed by the narrower search. A derived entry stores its exceptions alone (vq_io.cpp), a few
+  // bytes each against a whole row of views.
+  std::optional<std::pair<std::uint32_t, Level3Exceptions>> nearestWithExceptions(std::size_t t, std::span<const float> key,
+                                                                                   float radius) const {
+    if (!options_.level3_exceptions) return std::nullopt;
+    thread_local std::vector<Codebook::Match> found;
+    l3_->search(key, std::min(2.0f * radius, 1.415f), kExceptionCandidates, found, Codebook::SearchOptions{0, 0});
+    const std::size_t max_views = std::size_t(std::floor(kVqMaxExceptionShare * double(views_)));
+    std::optional<std::pair<std::uint32_t, Level3Exceptions>> best;
+    for (const auto& m : found) {
+      if (best && best->second.views.empty()) break;
+      // Only an entry with fewer exceptions than the best so far is worth its evaluation.
+      const std::size_t limit = best ? best->second.views.size() - 1 : max_views;
+      if (auto e = level3Exceptions(t, m.index, limit)) best.emplace(m.index, std::move(*e));
+    }
+    return best;
+  }
+  // Texel t's entry: `parent`'s row with the exception views replaced by the texel's own codes,
+  // their scales relative to the texel's scale on the kept views.
+  std::uint32_t addLevel3Exception(std::size_t t, std::uint32_t parent, const Level3Exceptions& ex) {
+    const std::size_t V = views_;
+    std::uint32_t e2[kBtfDirectionCount];
+    std::uint16_t sc[kBtfDirectionCount];
+    std::copy_n(&out_->l3_index[std::size_t(parent) * V], V, e2);
+    std::copy_n(&out_->l3_scale[std::size_t(parent) * V], V, sc);
+    for (const std::uint32_t v : ex.views) {
+      e2[v] = view_index_[t * V + v];
+      sc[v] = encodeVqScale(float(double(decodeVqScale(view_scale_[t * V + v])) / ex.scale), precision_.scale_shift);
+    }
+    return addLevel3Entry(e2, sc, parent);
   }
 
   void level3() {
@@ -627,6 +730,10 @@ class Compressor {
                               [&](std::uint32_t e) { return level3Passes(t, e); });
         },
         [&](std::size_t t) -> std::int64_t {
+          if (const auto near = nearestWithExceptions(t, key(t), radius(t))) {
+            if (near->second.views.empty()) return near->first;
+            return addLevel3Exception(t, near->first, near->second);
+          }
           std::uint16_t rel[kBtfDirectionCount];
           for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v], precision_.scale_shift);
           return addLevel3Entry(&view_index_[t * V], rel);

@@ -55,7 +55,9 @@ std::vector<ContainerSection> databaseSections(const std::vector<VqBtf>& materia
   const VqBtf::Impl& first = materials.front().impl();
   nlohmann::json header = vqOptionsHeader(first);
   header["format"] = kVqDatabaseFormat;
-  header["format_version"] = vqSectionsVersion(first);
+  int version = 1;
+  for (const VqBtf& material : materials) version = std::max(version, vqSectionsVersion(material.impl()));
+  header["format_version"] = version;
   header["codebook_entries"] = sharedEntriesOf(first);
   nlohmann::json list = nlohmann::json::array();
   for (const VqBtf& material : materials) {

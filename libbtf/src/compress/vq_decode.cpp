@@ -78,6 +78,11 @@ void VqBtf::Impl::prepare(const std::string& what) {
       if (l3_index.size() % viewCount() != 0) throw Error(what + ": the level-3 codebook has a partial entry");
       checkSize(l3_scale.size(), l3_index.size(), what, "level3/scale");
       checkIndices(l3_index, l2Count(), what, "level3/index");
+      if (!l3_parent.empty()) {
+        checkSize(l3_parent.size(), l3Count(), what, "level3/parent");
+        for (std::size_t e = 0; e < l3_parent.size(); ++e)
+          if (l3_parent[e] > e) throw Error(what + ": level-3 entry " + std::to_string(e) + " derives from a later entry");
+      }
       checkSize(top_index.size(), T, what, "top/index");
       checkSize(top_scale.size(), T, what, "top/scale");
       checkIndices(top_index, l3Count(), what, "top/index");
@@ -127,7 +132,14 @@ void VqBtf::Impl::prepare(const std::string& what) {
     return codes;
   };
   l2_codes = ringCodes(l2_index, l2_scale, l2_chroma);
-  l3_codes = scaledIndices(l3_index, l3_scale);
+  l3_packed.clear();
+  l3_codes.clear();
+  if (l2Count() <= 65536) {
+    l3_packed.resize(l3_index.size());
+    for (std::size_t i = 0; i < l3_index.size(); ++i) l3_packed[i] = {std::uint16_t(l3_index[i]), l3_scale[i]};
+  } else {
+    l3_codes = scaledIndices(l3_index, l3_scale);
+  }
   if (options.levels == 1) {
     top_ring_codes = ringCodes(top_index, top_scale, top_chroma);
     top_codes.clear();
@@ -147,7 +159,7 @@ const VqStats& VqBtf::stats() const { return impl_->stats; }
 std::size_t VqBtf::lookupTableBytes() const {
   const Impl& m = *impl_;
   auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
-  return bytes(m.l1_flat) + bytes(m.chroma_flat) + bytes(m.l2_codes) + bytes(m.l3_codes) + bytes(m.top_codes) +
+  return bytes(m.l1_flat) + bytes(m.chroma_flat) + bytes(m.l2_codes) + bytes(m.l3_packed) + bytes(m.l3_codes) + bytes(m.top_codes) +
          bytes(m.top_ring_codes);
 }
 

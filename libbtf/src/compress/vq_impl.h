@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -26,6 +27,18 @@ inline std::uint16_t encodeVqScale(float s, int shift = 0) {
   return std::uint16_t(std::clamp(q, step, 65535.0));
 }
 inline float decodeVqScale(std::uint16_t q) { return q == 0 ? 0.0f : float(std::exp2(double(q) / 1024.0 - 40.0)); }
+// decodeVqScale for lookups, without exp2: 2^(f / 1024) for the code's low 10 bits from a table,
+// times the power of two of its high 6 bits (built as float bits, exact: every product is a normal
+// float). The same floats as decodeVqScale for every code (test_vq_btf.cpp checks all 65,536).
+inline const std::array<float, 1024> kVqScaleFractions = [] {
+  std::array<float, 1024> t{};
+  for (std::size_t f = 0; f < t.size(); ++f) t[f] = float(std::exp2(double(f) / 1024.0));
+  return t;
+}();
+inline float lookupVqScale(std::uint16_t q) {
+  const float power = std::bit_cast<float>(std::uint32_t((q >> 10) + 127 - 40) << 23);
+  return q == 0 ? 0.0f : kVqScaleFractions[q & 1023u] * power;
+}
 
 // Level-1 entries are stored as 16-bit fixed point in [0, 1] (unit vectors of non-negative data),
 // rounded to a multiple of 2^shift (1 itself stays 65535).
@@ -63,6 +76,12 @@ inline VqPrecision vqPrecisionFor(float epsilon) {
   return p;
 }
 
+// Level 3's derived entries (l3_parent below): the largest share of a texel's views that may be
+// exceptions to the entry it nearly matches. Every exception reuses an entry at the tolerance where
+// a whole new entry would have been exact, so more of them buy bytes with error: on the calibrated
+// print a tenth did best at equal error of the shares tried (README).
+inline constexpr double kVqMaxExceptionShare = 0.1;
+
 // Chromaticity grid step: a quarter of the tolerance, so that quantizing a new entry costs at most
 // chroma_epsilon / 8 per component (always within its own tolerance).
 inline float vqChromaStep(float chroma_epsilon) { return 0.25f * chroma_epsilon; }
@@ -92,6 +111,11 @@ struct VqBtf::Impl {
   // Level 3 entries (levels == 3): one code per view held (views.count()) per entry.
   std::vector<std::uint32_t> l3_index;
   std::vector<std::uint16_t> l3_scale;
+  // Per level-3 entry, 0, or p + 1 when the entry is derived from entry p < e: the same codes but
+  // in a few exception views (the compressor's texels that nearly match an entry). Files store a
+  // derived entry's exception views alone (vq_io.cpp); in memory every row is whole. Empty: every
+  // entry is whole (as levels < 3 and files before format version 3).
+  std::vector<std::uint32_t> l3_parent;
   // Top stream, texel t = y * width + x: levels 1: per (t, view slot, ring) index, scale and chroma;
   // levels 2: per (t, view slot) level-2 index and scale; levels 3: per t level-3 index and scale.
   std::vector<std::uint32_t> top_index, top_chroma;
@@ -99,7 +123,8 @@ struct VqBtf::Impl {
 
   // Decoded tables (prepare()), laid out for random access: a lookup (texel, view, light) walks
   // top -> level 3 -> level 2 -> level-1 value and chroma pair, one cache line per step (codes as
-  // {index, float scale} records rather than parallel arrays), and the level-1 values and chroma
+  // {index, float scale} records rather than parallel arrays; level 3's in 4 bytes where they fit,
+  // below), and the level-1 values and chroma
   // stay in their stored 16 bits, so that the tables a lookup touches are as small as they can be
   // (bench_btf.cpp, the 16 x 16 GGX pattern: 4.9 -> 2.2 MB, the size of an L2 cache; its stream
   // of lookups 68.8 -> 98.9 M samples/s).
@@ -114,7 +139,16 @@ struct VqBtf::Impl {
     std::uint32_t chroma;
   };
   std::vector<RingCode> l2_codes;      // per level-2 entry and ring (levels >= 2)
-  std::vector<ScaledIndex> l3_codes;   // per level-3 entry and view (levels == 3)
+  // Per level-3 entry and view (levels == 3): as 4-byte records of the level-2 entry and the stored
+  // scale code (lookupVqScale) when level 2 has at most 2^16 entries, else as ScaledIndex. Level 3
+  // is the largest table of a full-size BTF and its derived entries (l3_parent) add rows; half the
+  // bytes per row keep more of it in cache.
+  struct PackedIndex {
+    std::uint16_t entry;
+    std::uint16_t scale;
+  };
+  std::vector<PackedIndex> l3_packed;
+  std::vector<ScaledIndex> l3_codes;
   std::vector<ScaledIndex> top_codes;  // per texel (levels 3) or texel and view (levels 2)
   std::vector<RingCode> top_ring_codes;  // per texel, view and ring (levels 1)
   // All rings' level-1 values (16-bit, as stored) and chroma grid pairs (i, j) in one array each,
@@ -147,9 +181,15 @@ struct VqBtf::Impl {
   ScaledIndex sliceCode(std::size_t t, int v) const {
     if (options.levels == 2) return top_codes[t * viewCount() + slotOf(v)];
     const ScaledIndex c3 = top_codes[t];
-    ScaledIndex c2 = l3_codes[std::size_t(c3.entry) * viewCount() + slotOf(v)];
+    ScaledIndex c2 = l3Code(std::size_t(c3.entry) * viewCount() + slotOf(v));
     c2.scale *= c3.scale;
     return c2;
+  }
+  // Level-3 code k (entry * viewCount() + slot), from whichever form prepare() built.
+  ScaledIndex l3Code(std::size_t k) const {
+    if (l3_packed.empty()) return l3_codes[k];
+    const PackedIndex p = l3_packed[k];
+    return {p.entry, lookupVqScale(p.scale)};
   }
   // Level-1 code of ring r under a slice's level-2 code.
   RingCode ringCode(const ScaledIndex& slice, int r) const {

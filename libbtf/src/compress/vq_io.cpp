@@ -104,6 +104,7 @@ nlohmann::json vqOptionsHeader(const VqBtf::Impl& m) {
 }
 
 int vqSectionsVersion(const VqBtf::Impl& m) {
+  if (hasDerivedLevel3(m)) return 3;
   for (const VqRingBasis& basis : m.l1_basis)
     if (!basis.empty()) return 2;
   return 1;
@@ -143,8 +144,111 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
   }
 }
 
+bool hasDerivedLevel3(const VqBtf::Impl& m) {
+  return std::any_of(m.l3_parent.begin(), m.l3_parent.end(), [](std::uint32_t p) { return p != 0; });
+}
+
+namespace {
+
+// Level 3 with derived entries (vq_impl.h): "level3/parent" (0, or the parent's index + 1, per
+// entry), "level3/exception_count" (per derived entry) and "level3/exception_view" (their view
+// slots, ascending within an entry); "level3/index" and "level3/scale" hold, entry after entry, a
+// whole entry's row or a derived entry's codes in its exception views. The exceptions are the
+// views whose codes differ from the parent's, so the writer needs only the parents.
+void addDerivedLevel3Sections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections) {
+  const std::size_t V = m.viewCount();
+  std::vector<std::uint32_t> index, counts;
+  std::vector<std::uint16_t> scale;
+  std::vector<std::uint8_t> slots;
+  for (std::size_t e = 0; e < m.l3Count(); ++e) {
+    const std::uint32_t* row = &m.l3_index[e * V];
+    const std::uint16_t* row_scale = &m.l3_scale[e * V];
+    if (m.l3_parent[e] == 0) {
+      index.insert(index.end(), row, row + V);
+      scale.insert(scale.end(), row_scale, row_scale + V);
+      continue;
+    }
+    const std::size_t p = std::size_t(m.l3_parent[e] - 1);
+    std::uint32_t count = 0;
+    for (std::size_t v = 0; v < V; ++v)
+      if (row[v] != m.l3_index[p * V + v] || row_scale[v] != m.l3_scale[p * V + v]) {
+        slots.push_back(std::uint8_t(v));
+        index.push_back(row[v]);
+        scale.push_back(row_scale[v]);
+        ++count;
+      }
+    counts.push_back(count);
+  }
+  addVqSection(sections, SectionType::Codebook, prefix + "level3/parent", packPlanar(m.l3_parent));
+  addVqSection(sections, SectionType::Codebook, prefix + "level3/exception_count", packPlanar(counts));
+  addVqSection(sections, SectionType::Codebook, prefix + "level3/exception_view", packPlanar(slots));
+  addVqSection(sections, SectionType::Codebook, prefix + "level3/index", packPlanar(index));
+  addVqSection(sections, SectionType::Codebook, prefix + "level3/scale", packPlanar(scale));
+}
+
+// The whole rows of addDerivedLevel3Sections' entries, each section checked against the others.
+void readDerivedLevel3Sections(const std::vector<ContainerSection>& sections, const std::string& prefix,
+                               const std::filesystem::path& path, VqBtf::Impl& m) {
+  const std::size_t V = m.viewCount();
+  const std::string at = prefix + "level3/";
+  m.l3_parent = unpackPlanar<std::uint32_t>(vqSection(sections, at + "parent", path), path);
+  const auto counts = unpackPlanar<std::uint32_t>(vqSection(sections, at + "exception_count", path), path);
+  const auto slots = unpackPlanar<std::uint8_t>(vqSection(sections, at + "exception_view", path), path);
+  const auto index = unpackPlanar<std::uint32_t>(vqSection(sections, at + "index", path), path);
+  const auto scale = unpackPlanar<std::uint16_t>(vqSection(sections, at + "scale", path), path);
+  // Each texel adds at most one entry to the seed: a bound on the rows before they are allocated
+  // (a derived entry costs a few bytes in the file and a whole row in memory).
+  const std::size_t entries = m.l3_parent.size();
+  if (entries == 0 || entries > m.top_index.size() + 1)
+    throw FileError(path, "section " + at + "parent lists " + std::to_string(entries) + " entries for " +
+                              std::to_string(m.top_index.size()) + " texels");
+  if (index.size() != scale.size())
+    throw FileError(path, "sections " + at + "index and " + at + "scale differ in length");
+  m.l3_index.assign(entries * V, 0);
+  m.l3_scale.assign(entries * V, 0);
+  std::size_t value = 0, derived = 0, slot = 0;
+  auto take = [&](std::size_t e, std::size_t v) {
+    if (value == index.size()) throw FileError(path, "section " + at + "index ends before entry " + std::to_string(e));
+    m.l3_index[e * V + v] = index[value];
+    m.l3_scale[e * V + v] = scale[value];
+    ++value;
+  };
+  for (std::size_t e = 0; e < entries; ++e) {
+    const std::uint32_t parent = m.l3_parent[e];
+    if (parent == 0) {
+      for (std::size_t v = 0; v < V; ++v) take(e, v);
+      continue;
+    }
+    if (parent > e)
+      throw FileError(path, "section " + at + "parent: entry " + std::to_string(e) + " derives from entry " +
+                                std::to_string(parent - 1) + ", not an earlier one");
+    if (derived == counts.size())
+      throw FileError(path, "section " + at + "exception_count ends before entry " + std::to_string(e));
+    const std::size_t count = counts[derived++], p = parent - 1;
+    if (count > V)
+      throw FileError(path, "section " + at + "exception_count: entry " + std::to_string(e) + " has " +
+                                std::to_string(count) + " exceptions in " + std::to_string(V) + " views");
+    std::copy_n(&m.l3_index[p * V], V, &m.l3_index[e * V]);
+    std::copy_n(&m.l3_scale[p * V], V, &m.l3_scale[e * V]);
+    for (std::size_t k = 0; k < count; ++k, ++slot) {
+      if (slot == slots.size())
+        throw FileError(path, "section " + at + "exception_view ends before entry " + std::to_string(e));
+      if (slots[slot] >= V || (k > 0 && slots[slot] <= slots[slot - 1]))
+        throw FileError(path, "section " + at + "exception_view: entry " + std::to_string(e) +
+                                  "'s view slots are not ascending below " + std::to_string(V));
+      take(e, slots[slot]);
+    }
+  }
+  if (derived != counts.size() || slot != slots.size() || value != index.size())
+    throw FileError(path, "sections " + at + "* hold more exceptions or codes than their entries use");
+}
+
+}  // namespace
+
 void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections) {
-  if (m.options.levels == 3) {
+  if (m.options.levels == 3 && hasDerivedLevel3(m)) {
+    addDerivedLevel3Sections(m, prefix, sections);
+  } else if (m.options.levels == 3) {
     addVqSection(sections, SectionType::Codebook, prefix + "level3/index", packPlanar(m.l3_index));
     addVqSection(sections, SectionType::Codebook, prefix + "level3/scale", packPlanar(m.l3_scale));
   }
@@ -274,11 +378,15 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
 
 void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
                             const std::filesystem::path& path, VqBtf::Impl& m) {
-  if (m.options.levels == 3) {
+  m.top_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/index", path), path);
+  const bool derived = std::any_of(sections.begin(), sections.end(),
+                                   [&](const ContainerSection& s) { return s.name == prefix + "level3/parent"; });
+  if (m.options.levels == 3 && derived) {
+    readDerivedLevel3Sections(sections, prefix, path, m);
+  } else if (m.options.levels == 3) {
     m.l3_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "level3/index", path), path);
     m.l3_scale = unpackPlanar<std::uint16_t>(vqSection(sections, prefix + "level3/scale", path), path);
   }
-  m.top_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/index", path), path);
   m.top_scale = unpackPlanar<std::uint16_t>(vqSection(sections, prefix + "top/scale", path), path);
   if (m.options.levels == 1) m.top_chroma = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/chroma", path), path);
 }

@@ -31,10 +31,12 @@ void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std
 void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections);
 // Header keys of the options and the chroma grid (both formats).
 nlohmann::json vqOptionsHeader(const VqBtf::Impl& m);
-// Format version of the sections (both formats): 2 when a level-1 ring is basis-coded (vq_basis.h:
-// "level1/basis<r>" and coefficients in "level1/ring<r>", which a version-1 reader would misread),
-// else 1, as files were before. Readers take 1..kVqNewestSectionsVersion.
-inline constexpr int kVqNewestSectionsVersion = 2;
+// Format version of the sections (both formats): 3 when level 3 has derived entries (vq_impl.h:
+// "level3/parent" and exceptions alone in "level3/index"), 2 when a level-1 ring is basis-coded
+// (vq_basis.h: "level1/basis<r>" and coefficients in "level1/ring<r>"), else 1, as files were
+// before; an older reader would misread either. Readers take 1..kVqNewestSectionsVersion.
+inline constexpr int kVqNewestSectionsVersion = 3;
+bool hasDerivedLevel3(const VqBtf::Impl& m);
 int vqSectionsVersion(const VqBtf::Impl& m);
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections);
 void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections);

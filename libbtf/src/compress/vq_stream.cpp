@@ -40,7 +40,7 @@ double l2CacheBytes() {
 // A group of n <= kGroup samples of a three-level VqBtf (indices checked by the caller). Count is
 // kGroup as a compile-time constant for full groups, so that their loops unroll and vectorize, or a
 // size_t.
-template <std::size_t kGroup, class Count>
+template <std::size_t kGroup, bool kPacked, class Count>
 void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool prefetching, Rgb* out) {
   auto prefetch = [prefetching](const auto* p) {
     if (prefetching) __builtin_prefetch(p, 0, 3);
@@ -55,12 +55,23 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
     const VqBtf::Impl::ScaledIndex c3 = m.top_codes[k3[i]];
     scale[i] = c3.scale;
     k3[i] = std::size_t(c3.entry) * m.viewCount() + m.slotOf(s[i].view);
-    prefetch(&m.l3_codes[k3[i]]);
+    if constexpr (kPacked)
+      prefetch(&m.l3_packed[k3[i]]);
+    else
+      prefetch(&m.l3_codes[k3[i]]);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const VqBtf::Impl::ScaledIndex c2 = m.l3_codes[k3[i]];
-    scale[i] = c2.scale * scale[i];
-    k2[i] = std::size_t(c2.entry) * kBtfRingCount + m.lights[std::size_t(s[i].light)].ring;
+    std::size_t entry;
+    if constexpr (kPacked) {
+      const VqBtf::Impl::PackedIndex c2 = m.l3_packed[k3[i]];
+      scale[i] = lookupVqScale(c2.scale) * scale[i];
+      entry = c2.entry;
+    } else {
+      const VqBtf::Impl::ScaledIndex c2 = m.l3_codes[k3[i]];
+      scale[i] = c2.scale * scale[i];
+      entry = c2.entry;
+    }
+    k2[i] = entry * kBtfRingCount + m.lights[std::size_t(s[i].light)].ring;
     prefetch(&m.l2_codes[k2[i]]);
   }
   // The last step as Impl::sample, on arrays (the compiler runs its arithmetic in vector lanes).
@@ -92,12 +103,19 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
   for (std::size_t i = 0; i < n; ++i) out[i] = Rgb(r[i], g[i], b[i]);
 }
 
-template <std::size_t kGroup>
+template <std::size_t kGroup, bool kPacked>
 void decodeAll(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, bool prefetching, std::span<Rgb> out) {
   const std::integral_constant<std::size_t, kGroup> full;
   std::size_t i = 0;
-  for (; i + kGroup <= samples.size(); i += kGroup) decodeGroup<kGroup>(m, &samples[i], full, prefetching, &out[i]);
-  if (i < samples.size()) decodeGroup<kGroup>(m, &samples[i], samples.size() - i, prefetching, &out[i]);
+  for (; i + kGroup <= samples.size(); i += kGroup) decodeGroup<kGroup, kPacked>(m, &samples[i], full, prefetching, &out[i]);
+  if (i < samples.size()) decodeGroup<kGroup, kPacked>(m, &samples[i], samples.size() - i, prefetching, &out[i]);
+}
+template <std::size_t kGroup>
+void decodeAll(const VqBtf::Impl& m, std::span<const BtfSampleIndex> samples, bool prefetching, std::span<Rgb> out) {
+  if (m.l3_packed.empty())
+    decodeAll<kGroup, false>(m, samples, prefetching, out);
+  else
+    decodeAll<kGroup, true>(m, samples, prefetching, out);
 }
 
 }  // namespace
