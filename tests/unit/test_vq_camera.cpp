@@ -96,9 +96,8 @@ TEST(VqCamera, NoisyTexelsOfOnePrintShareLevelThreeEntriesWithinTheTolerance) {
   EXPECT_LE(added, btf::test::vqLuminanceBound(0.2f, 1));
   // The colour: taking texels of the other ink (no chroma test at all) raised the RGB error by
   // more than half on the 64 x 64 print at epsilon 0.3, chroma 0.1 (0.17 -> 0.27); the whole-texel
-  // test keeps it near level 2's (within 1.3x here: most texels now reuse an entry at level 3, up
-  // to their tolerance, where before a third of them were stored exactly as level 2 left them).
-  EXPECT_LT(rgb3, 1.3 * rgb2);
+  // test keeps it near level 2's.
+  EXPECT_LT(rgb3, 1.25 * rgb2);
 }
 
 TEST(VqCamera, NoCodebookKeepsAnEntryNothingReferences) {
