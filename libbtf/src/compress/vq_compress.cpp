@@ -564,11 +564,14 @@ class Compressor {
       const std::uint32_t a = view_index_[k], b = out_->l3_index[std::size_t(entry) * views_ + v];
       chroma_err += level3ViewChromaError(k, s, a, b);
       if (s == 0 || q[v] == 0) continue;
-      const double ab = a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
-      xy += double(s) * q[v] * ab;
+      xy += double(s) * q[v] * level2Dot(a, b);
     }
     if (chroma_err > level3ChromaTolerance2(t)) return std::nullopt;
     return xy;
+  }
+  // Dot product of level-2 entries a and b (unscaled).
+  double level2Dot(std::uint32_t a, std::uint32_t b) const {
+    return a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
   }
   // The chroma term of level3Dot for one view: slot k = t * views_ + v of texel t, whose slice has
   // level-2 entry a at scale s, against level-2 entry b.
@@ -620,8 +623,7 @@ class Compressor {
       const std::uint32_t a = view_index_[k], b = out_->l3_index[std::size_t(entry) * V + v];
       x2[v] = s * s * l2_norm2_[a];
       y2[v] = double(q[v]) * q[v] * l2_norm2_[b];
-      xy[v] = s == 0 || q[v] == 0 ? 0.0
-                                  : s * q[v] * (a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount));
+      xy[v] = s == 0 || q[v] == 0 ? 0.0 : s * q[v] * level2Dot(a, b);
       chroma[v] = level3ViewChromaError(k, float(s), a, b);
     }
     const double texel2 = texel_norm2_[t];
@@ -665,9 +667,9 @@ class Compressor {
     return err2 <= tol * tol;
   }
 
-  // For a texel no entry passes (with VqOptions::level3_exceptions): the entry among the kExceptionCandidates nearest (within twice
-  // the search radius) that passes with the fewest exception views, at most
-  // kVqMaxExceptionShare of them (vq_impl.h), and those views. An entry that then needs none was
+  // For a texel no entry passes (with VqOptions::level3_exceptions): the entry among the
+  // kExceptionCandidates nearest (within twice the search radius) that passes with the fewest
+  // exception views, at most kVqMaxExceptionShare of them (vq_impl.h), and those views. An entry that then needs none was
   // missed by the narrower search. A derived entry stores its exceptions alone (vq_io.cpp), a few
   // bytes each against a whole row of views.
   std::optional<std::pair<std::uint32_t, Level3Exceptions>> nearestWithExceptions(std::size_t t, std::span<const float> key,

@@ -186,11 +186,8 @@ struct VqBtf::Impl {
     return c2;
   }
   // Level-3 code k (entry * viewCount() + slot), from whichever form prepare() built.
-  ScaledIndex l3Code(std::size_t k) const {
-    if (l3_packed.empty()) return l3_codes[k];
-    const PackedIndex p = l3_packed[k];
-    return {p.entry, lookupVqScale(p.scale)};
-  }
+  ScaledIndex l3Code(std::size_t k) const { return l3_packed.empty() ? l3_codes[k] : unpacked(l3_packed[k]); }
+  static ScaledIndex unpacked(PackedIndex p) { return {p.entry, lookupVqScale(p.scale)}; }
   // Level-1 code of ring r under a slice's level-2 code.
   RingCode ringCode(const ScaledIndex& slice, int r) const {
     RingCode c1 = l2_codes[std::size_t(slice.entry) * kBtfRingCount + std::size_t(r)];

@@ -61,17 +61,13 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
       prefetch(&m.l3_codes[k3[i]]);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    std::size_t entry;
-    if constexpr (kPacked) {
-      const VqBtf::Impl::PackedIndex c2 = m.l3_packed[k3[i]];
-      scale[i] = lookupVqScale(c2.scale) * scale[i];
-      entry = c2.entry;
-    } else {
-      const VqBtf::Impl::ScaledIndex c2 = m.l3_codes[k3[i]];
-      scale[i] = c2.scale * scale[i];
-      entry = c2.entry;
-    }
-    k2[i] = entry * kBtfRingCount + m.lights[std::size_t(s[i].light)].ring;
+    VqBtf::Impl::ScaledIndex c2;
+    if constexpr (kPacked)
+      c2 = VqBtf::Impl::unpacked(m.l3_packed[k3[i]]);
+    else
+      c2 = m.l3_codes[k3[i]];
+    scale[i] = c2.scale * scale[i];
+    k2[i] = std::size_t(c2.entry) * kBtfRingCount + m.lights[std::size_t(s[i].light)].ring;
     prefetch(&m.l2_codes[k2[i]]);
   }
   // The last step as Impl::sample, on arrays (the compiler runs its arithmetic in vector lanes).

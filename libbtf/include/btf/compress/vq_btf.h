@@ -64,7 +64,7 @@ namespace btf {
 //   <= kmax / 1.334 * L + 0.786 m chroma_epsilon sqrt(1 + energy_floor^2), with L the luminance
 //   rel_rmse, kmax the largest |RGB| / Y of the decoded data, and m = 1 for 1 or 2 levels, 2 for 3.
 // - Level 3 has a cheaper way to add an entry: a texel that no entry fits but one nearly does,
-//   all but a few views (at most a quarter), gets that entry with its own level-2 codes in those
+//   all but a few views (at most a tenth), gets that entry with its own level-2 codes in those
 //   views. Its error, over the views kept, passes the same tests, and the views replaced add no
 //   level-3 error, so the bounds above hold as they are; the file stores such an entry as its
 //   parent and the views that differ (src/compress/vq_impl.h).
@@ -88,9 +88,9 @@ struct VqOptions {
   // entries are stored value by value, as files were before.
   bool level1_cut = false;
   // Level 3's derived entries (above): a texel that nearly matches an entry takes it with its own
-  // codes in a few views. Smaller files at equal error on measured data, but more level-3 entries
-  // in the decoded tables, so random lookups slow down once those exceed the caches (README). Off:
-  // every level-3 entry is matched or whole, as files were before.
+  // codes in a few views. Smaller files at equal error on measured data, with more level-3 entries
+  // in the decoded tables (README). Off: every level-3 entry is matched or whole, as files were
+  // before.
   bool level3_exceptions = true;
 };
 
