@@ -16,7 +16,7 @@
 #include "btf/core/rng.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/lafortune.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

@@ -24,7 +24,7 @@
 #include "btf/material/lafortune.h"
 #include "btf/material/octree_brdf.h"
 #include "btf/material/tabulated_brdf.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

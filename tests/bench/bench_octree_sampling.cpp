@@ -29,7 +29,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "btf/sampling/octree_bound_sampler.h"
 #include "btf/sampling/quadtree_sampler.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

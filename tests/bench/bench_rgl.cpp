@@ -12,7 +12,7 @@
 
 #include "btf/core/rng.h"
 #include "btf/material/rgl_brdf.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

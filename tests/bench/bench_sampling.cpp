@@ -23,7 +23,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "btf/sampling/binned_sampler.h"
 #include "btf/sampling/dp_cdf_sampler.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

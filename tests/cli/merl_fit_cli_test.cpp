@@ -8,7 +8,7 @@
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
 #include "btf/io/merl.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/tabulated_brdf.h"
 #include "cli_test_support.h"
 #include "unit/merl_fit_reference.h"

@@ -1,5 +1,5 @@
 // Test-side reference for the published MERL fits: a naive CSV reader (independent of
-// btf/io/merl_fits.h) and the three models written out straightforwardly from SOURCES.md, in
+// btf/fit/merl_fits.h) and the three models written out straightforwardly from SOURCES.md, in
 // double, so that the library's Sgd/Abc/Lafortune are checked against a second implementation.
 #pragma once
 

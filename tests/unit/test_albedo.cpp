@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/material/albedo.h"
@@ -33,7 +34,7 @@ TEST(Albedo, LambertIsItsAlbedoExactly) {
   }
 }
 
-TEST(Albedo, QuadratureMatchesMonteCarloFromDiffuseToNearMirror) {
+BTF_STATISTICAL_TEST(Albedo, QuadratureMatchesMonteCarloFromDiffuseToNearMirror) {
   // 400,000 importance-sampled draws (seed 2) against the default 256 x 512 quadrature. The
   // quadrature must be within 0.5% of the estimate, and the estimate itself must be tighter than
   // 0.2% (one standard error), so that a 1% quadrature error would stand out by 5 standard errors.

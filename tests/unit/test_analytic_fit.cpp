@@ -10,15 +10,16 @@
 
 #include <tbb/global_control.h>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/fit/analytic_fit.h"
 #include "btf/fit/fit_file.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/ggx.h"
 #include "btf/material/lafortune.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
-#include "fit/fit_models.h"
+#include "fit/src/fit_models.h"
 #include "merl_fit_reference.h"
 #include "support/test_support.h"
 #include "fit_expectations.h"
@@ -79,7 +80,7 @@ AnalyticFit fitTableOf(const Material& truth, const AnalyticFitOptions& options)
 
 // Noiseless tables of known models: the fit finds the parameters within 5% (the target)
 // and reproduces the table.
-TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
+BTF_SLOW_TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   const Rgb kd(0.3f, 0.2f, 0.1f), f0(0.04f, 0.05f, 0.06f);
   const Ggx truth(kd, f0, 0.15f, 0.15f);
   AnalyticFitOptions options;
@@ -90,7 +91,7 @@ TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   EXPECT_TRUE(fit.report.converged) << fit.report.ceres_report;
 }
 
-TEST(AnalyticFit, RecoversWardParametersFromItsTable) {
+BTF_SLOW_TEST(AnalyticFit, RecoversWardParametersFromItsTable) {
   const Rgb kd(0.1f, 0.3f, 0.5f), ks(0.2f, 0.15f, 0.1f);
   const Ward truth(kd, ks, 0.1f, 0.1f);
   AnalyticFitOptions options;
@@ -104,7 +105,7 @@ TEST(AnalyticFit, RecoversWardParametersFromItsTable) {
   EXPECT_LT(fit.report.rel_rmse, 0.01);
 }
 
-TEST(AnalyticFit, RecoversOneLafortuneLobeFromItsTable) {
+BTF_SLOW_TEST(AnalyticFit, RecoversOneLafortuneLobeFromItsTable) {
   const Rgb kd(0.2f, 0.2f, 0.1f), rho(0.3f, 0.4f, 0.5f);
   const Lafortune truth(kd, {{rho, glm::vec3(-1.0f, -1.0f, 1.0f), 60.0f}});
   AnalyticFitOptions options;
@@ -124,7 +125,7 @@ TEST(AnalyticFit, RecoversOneLafortuneLobeFromItsTable) {
 // Stability: what measurements do to a table the fit must survive, each with a stated tolerance.
 // Multiplicative lognormal noise of sigma 0.1 per cell and channel (three times the generator's
 // default): the parameters stay within 5%, and rel_rmse reports the noise instead of hiding it.
-TEST(AnalyticFit, RecoversGgxFromANoisyTable) {
+BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromANoisyTable) {
   const Rgb kd(0.3f, 0.2f, 0.1f), f0(0.04f);
   MerlTable table = tabulate(Ggx(kd, f0, 0.2f, 0.2f));
   std::mt19937 rng(17);
@@ -143,7 +144,7 @@ TEST(AnalyticFit, RecoversGgxFromANoisyTable) {
 }
 
 // Four cells in five unmeasured, at random: the fit uses the rest and recovers the model.
-TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
+BTF_SLOW_TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
   const Rgb kd(0.2f, 0.3f, 0.4f), ks(0.1f);
   MerlTable table = tabulate(Ward(kd, ks, 0.15f, 0.15f));
   std::mt19937 rng(23);
@@ -162,7 +163,7 @@ TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
 // A near-mirror (GGX alpha 0.02, the chrome preset's): its whole highlight lies in the first few
 // theta_h cells of the table. The fit still finds it (alpha within 10%: a few cells resolve the
 // width coarsely) and says how well it reproduces the table.
-TEST(AnalyticFit, RecoversANearMirrorGgx) {
+BTF_SLOW_TEST(AnalyticFit, RecoversANearMirrorGgx) {
   const Rgb kd(0.01f), f0(0.55f, 0.56f, 0.55f);
   AnalyticFitOptions options;
   options.family = AnalyticFamily::Ggx;
@@ -177,7 +178,7 @@ TEST(AnalyticFit, RecoversANearMirrorGgx) {
 // which no single GGX lobe matches. The robust log objective lets the few peak cells go (its
 // rel_rmse, a linear measure, is several times the data); the linear objective minimizes that
 // measure and must win on it, and the linear fit must at least match the published SGD fit.
-TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearObjective) {
+BTF_SLOW_TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearObjective) {
   const MerlFits fits = MerlFits::load(test::fitsDir());
   const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "blue-acrylic", FitModel::Abc));
   AnalyticFitOptions options;
@@ -194,7 +195,7 @@ TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearObjective)
 
 // A retro-reflective lobe (c = (1, 1, 1): the lobe points back to the light) is not a GGX
 // highlight: the fit must say so by its rel_rmse, not by a claim of convergence alone.
-TEST(AnalyticFit, AModelThatCannotRepresentTheTableReportsAPoorFit) {
+BTF_SLOW_TEST(AnalyticFit, AModelThatCannotRepresentTheTableReportsAPoorFit) {
   const Lafortune retro(Rgb(0.05f), {{Rgb(0.6f), glm::vec3(1.0f, 1.0f, 1.0f), 30.0f}});
   AnalyticFitOptions options;
   options.family = AnalyticFamily::Ggx;
@@ -205,7 +206,7 @@ TEST(AnalyticFit, AModelThatCannotRepresentTheTableReportsAPoorFit) {
   EXPECT_GT(tableRelRmse(*fit.material, tabulate(retro)), 0.3);
 }
 
-TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
+BTF_SLOW_TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
   const Ggx truth(Rgb(0.3f), Rgb(0.04f), 0.2f, 0.2f);
   MerlTable table = tabulate(truth);
   // Every 7th cell: a stride prime to the fitting grid's, so sampled cells are among them.
@@ -219,7 +220,7 @@ TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
 }
 
 // The starts run in parallel; which one wins may not depend on how many threads ran them.
-TEST(AnalyticFit, TheSameFitOnOneThreadAndOnSeveral) {
+BTF_SLOW_TEST(AnalyticFit, TheSameFitOnOneThreadAndOnSeveral) {
   const MerlTable table = tabulate(Ward(Rgb(0.2f), Rgb(0.1f), 0.2f, 0.2f));
   AnalyticFitOptions options;
   options.family = AnalyticFamily::Ward;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
@@ -20,7 +21,7 @@
 #include "btf/material/phong.h"
 #include "btf/material/ward.h"
 #include "btf/sampling/chi2.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 
@@ -86,7 +87,7 @@ float relativeDifference(float a, float b) { return std::abs(a - b) / std::max({
 // build includes this file into another.
 class AnalyticMaterial : public ::testing::TestWithParam<MaterialCase> {};
 
-TEST_P(AnalyticMaterial, SamplerPassesChi2) {
+BTF_STATISTICAL_TEST_P(AnalyticMaterial, SamplerPassesChi2) {
   // 500,000 draws per view, 20 x 40 cells, significance 0.01, seed 1.
   const auto material = GetParam().make();
   btf::Chi2Options options;
@@ -170,7 +171,7 @@ INSTANTIATE_TEST_SUITE_P(Models, AnalyticMaterial, ::testing::ValuesIn(materialC
 // The energy-conservation claims at their limits: albedos summing to 1, smooth and rough, and the
 // grazing views where Fresnel and the Ward normalization are strongest. 100,000 draws per view,
 // margin 4 standard errors, seed 5.
-TEST(AnalyticMaterialLimits, ConserveEnergyAtFullAlbedo) {
+BTF_STATISTICAL_TEST(AnalyticMaterialLimits, ConserveEnergyAtFullAlbedo) {
   std::vector<std::unique_ptr<btf::Material>> materials;
   materials.push_back(std::make_unique<btf::Phong>(Rgb(0.5f), Rgb(0.5f), 1.0f));
   materials.push_back(std::make_unique<btf::Phong>(Rgb(0.0f), Rgb(1.0f), 300.0f));

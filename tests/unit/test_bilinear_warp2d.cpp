@@ -8,7 +8,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
-#include "btf/sampling/bilinear_warp2d.h"
+#include "btf/core/bilinear_warp2d.h"
 
 namespace {
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf/io/btf_images.h"
@@ -98,7 +99,7 @@ TEST(BtfImageNames, WriterNamesParseBackToTheirPair) {
             "tv030_pv060_tl045_pl120.png");
 }
 
-TEST(BtfImageFolder, ExrRoundTripIsExact) {
+BTF_SLOW_TEST(BtfImageFolder, ExrRoundTripIsExact) {
   const BtfImageFolder folder = BtfImageFolder::open(exrFolder());
   EXPECT_EQ(folder.width(), kW);
   EXPECT_EQ(folder.height(), kH);
@@ -118,7 +119,7 @@ TEST(BtfImageFolder, WriterLeavesOnlyTheFolderWithImagesAndSidecar) {
 
 class BtfImageFolderPng : public testing::TestWithParam<BtfImageFormat> {};
 
-TEST_P(BtfImageFolderPng, RoundTripIsWithinHalfAQuantizationStep) {
+BTF_SLOW_TEST_P(BtfImageFolderPng, RoundTripIsWithinHalfAQuantizationStep) {
   test::TempDir dir;
   const BtfData original = randomBtf(11);
   writeBtfImageFolder(original, dir / "png", GetParam());
@@ -155,7 +156,7 @@ TEST_P(BtfImageFolderPng, RoundTripIsWithinHalfAQuantizationStep) {
 INSTANTIATE_TEST_SUITE_P(Formats, BtfImageFolderPng, testing::Values(BtfImageFormat::Png8, BtfImageFormat::Png16),
                          [](const auto& info) { return btfImageFormatName(info.param); });
 
-TEST(BtfImageFolder, SidecarScaleMultipliesPngCodes) {
+BTF_SLOW_TEST(BtfImageFolder, SidecarScaleMultipliesPngCodes) {
   test::TempDir dir;
   BtfImageWriteOptions options;
   options.format = BtfImageFormat::Png8;
@@ -171,7 +172,7 @@ TEST(BtfImageFolder, SidecarScaleMultipliesPngCodes) {
   EXPECT_THAT(errorOf([&] { BtfImageFolder::open(dir / "png"); }), HasSubstr("value_scale must be a finite number > 0"));
 }
 
-TEST(BtfImageFolder, OtherNameOrderingsReadTheSame) {
+BTF_SLOW_TEST(BtfImageFolder, OtherNameOrderingsReadTheSame) {
   test::TempDir dir;
   const fs::path folder = copyOfExrFolder(dir);
   int index = 0;
@@ -198,7 +199,7 @@ TEST(BtfImageFolder, MissingImageIsNamedByItsAngles) {
   EXPECT_THAT(message, HasSubstr("1 of the view's 81 light images are missing"));
 }
 
-TEST(BtfImageFolder, DuplicateImageNamesBothFiles) {
+BTF_SLOW_TEST(BtfImageFolder, DuplicateImageNamesBothFiles) {
   test::TempDir dir;
   const fs::path folder = copyOfExrFolder(dir);
   fs::copy_file(folder / "tv030_pv060_tl045_pl120.exr", folder / "tl045_pl120_tv030_pv060.exr");
@@ -208,7 +209,7 @@ TEST(BtfImageFolder, DuplicateImageNamesBothFiles) {
   EXPECT_THAT(message, HasSubstr("tl045_pl120_tv030_pv060.exr"));
 }
 
-TEST(BtfImageFolder, DifferentlySizedImageNamesFileAndBothSizes) {
+BTF_SLOW_TEST(BtfImageFolder, DifferentlySizedImageNamesFileAndBothSizes) {
   test::TempDir dir;
   const fs::path folder = copyOfExrFolder(dir);
   const fs::path odd = folder / "tv060_pv018_tl015_pl000.exr";
@@ -234,7 +235,7 @@ TEST(BtfImageFolder, CorruptOrTruncatedImageNamesTheFile) {
   EXPECT_THAT(errorOf([&] { btf.loadView(*findBtfDirection(15, 60), values); }), HasSubstr(truncated.string()));
 }
 
-TEST(BtfImageFolder, NanOrNegativeExrValueNamesFileAndPixel) {
+BTF_SLOW_TEST(BtfImageFolder, NanOrNegativeExrValueNamesFileAndPixel) {
   test::TempDir dir;
   const fs::path folder = copyOfExrFolder(dir);
   const BtfImageFolder btf = BtfImageFolder::open(folder);
@@ -251,7 +252,7 @@ TEST(BtfImageFolder, NanOrNegativeExrValueNamesFileAndPixel) {
   EXPECT_THAT(errorOf([&] { btf.loadView(*findBtfDirection(75, 15), values); }), HasSubstr("negative"));
 }
 
-TEST(BtfImageFolder, TooFewChannelsIsAnError) {
+BTF_SLOW_TEST(BtfImageFolder, TooFewChannelsIsAnError) {
   test::TempDir dir;
   const fs::path folder = copyOfExrFolder(dir);
   writeImage(folder / "tv000_pv000_tl000_pl000.exr", Image(kW, kH, 1, 0.5f));
@@ -272,7 +273,7 @@ class FailingSource final : public BtfSource {
   }
 };
 
-TEST(BtfImageFolder, FailedWriteLeavesNothingAndKeepsTheOldFolder) {
+BTF_SLOW_TEST(BtfImageFolder, FailedWriteLeavesNothingAndKeepsTheOldFolder) {
   test::TempDir dir;
   EXPECT_THROW(writeBtfImageFolder(FailingSource(), dir / "new", BtfImageFormat::Exr), Error);
   EXPECT_TRUE(fs::is_empty(dir.path())) << "neither the folder nor a temporary one is left";

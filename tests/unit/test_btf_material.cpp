@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 
+#include "support/tier.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
@@ -107,7 +108,7 @@ TEST(BtfMaterial, SampleDirectionIsSampleWithoutTheWeight) {
   }
 }
 
-TEST(BtfMaterial, SamplerPassesChiSquareOnDataAndVq) {
+BTF_STATISTICAL_TEST(BtfMaterial, SamplerPassesChiSquareOnDataAndVq) {
   btf::Chi2Options options;
   options.sample_count = 200'000;
   options.significance = 0.01;

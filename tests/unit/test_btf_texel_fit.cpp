@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/btf_directions.h"
 #include "btf/core/error.h"
 #include "btf/fit/analytic_fit.h"
@@ -66,7 +67,7 @@ TEST(BtfTexel, PicksTheTexelOrTheMeanOverTexels) {
 
 // A BTF whose texel (1, 0) is a GGX and whose texel (0, 0) is not: the fit to texel (1, 0) at the
 // 81 x 81 measured pairs recovers the GGX within 5% (noiseless data, as the table fits).
-TEST(AnalyticFit, RecoversGgxFromABtfTexel) {
+BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromABtfTexel) {
   const Rgb kd(0.35f, 0.25f, 0.1f), f0(0.04f, 0.05f, 0.07f);
   const Ggx truth(kd, f0, 0.25f, 0.25f);
   BtfData btf(2, 1, "ggx-texel");

@@ -9,7 +9,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
-#include "btf/sampling/cdf1d.h"
+#include "btf/core/cdf1d.h"
 
 TEST(Cdf1D, SamplesCellsInProportionToTheirValuesWithMatchingPdf) {
   const std::array<float, 5> f{1.0f, 0.0f, 3.0f, 0.5f, 2.0f};

@@ -12,7 +12,7 @@
 
 #include "btf/core/error.h"
 #include "btf/sampling/chi2.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace btf {
 namespace {

@@ -7,10 +7,10 @@
 
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
-#include "btf/sampling/cdf1d.h"
-#include "btf/sampling/dp_cdf.h"
+#include "btf/core/cdf1d.h"
+#include "btf/core/dp_cdf.h"
 #include "btf/sampling/dp_cdf_sampler.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "sampler_test_materials.h"
 
 namespace {

@@ -10,14 +10,15 @@
 #include <string>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/albedo.h"
 #include "btf/sampling/chi2.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "unit/merl_fit_reference.h"
 
 namespace btf::test {
@@ -111,7 +112,7 @@ const std::vector<std::string> kSamplingMaterials = {"chrome", "specular-orange-
 
 class FitSampling : public ::testing::TestWithParam<std::tuple<std::string, FitModel>> {};
 
-TEST_P(FitSampling, SamplerPassesChi2) {
+BTF_STATISTICAL_TEST_P(FitSampling, SamplerPassesChi2) {
   // 500,000 draws per view (normal, 40 deg, 80 deg), 20 x 40 cells, significance 0.01, seed 1.
   const auto& [name, model] = GetParam();
   const auto material = makeMerlFitMaterial(fits(), name, model);

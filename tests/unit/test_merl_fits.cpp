@@ -7,7 +7,7 @@
 #include <set>
 
 #include "btf/core/error.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/albedo.h"
 #include "unit/merl_fit_reference.h"
 

@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
@@ -23,7 +24,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "btf/sampling/chi2.h"
 #include "btf/sampling/octree_bound_sampler.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "support/test_support.h"
 
 namespace btf {
@@ -85,7 +86,7 @@ TEST(OctreeBoundSampler, TheBoundHoldsForEveryChannelAtRandomPairs) {
   }
 }
 
-TEST(OctreeBoundSampler, ExactModeChiSquareAccepts) {
+BTF_STATISTICAL_TEST(OctreeBoundSampler, ExactModeChiSquareAccepts) {
   for (const Case& c : cases()) {
     const OctreeBoundSampler sampler(c.material);
     for (const float theta_deg : {0.0f, 33.0f, 62.0f, 81.0f}) {
@@ -120,7 +121,7 @@ TEST(OctreeBoundSampler, SampleAgreesWithPdfAndWeightsStayWithinFourZ) {
   }
 }
 
-TEST(OctreeBoundSampler, RejectionModeChiSquareAcceptsOnALambertianTable) {
+BTF_STATISTICAL_TEST(OctreeBoundSampler, RejectionModeChiSquareAcceptsOnALambertianTable) {
   const OctreeBoundSampler sampler(cases()[0].material);
   for (const float theta_deg : {10.0f, 70.0f}) {
     const glm::vec3 wo = sphericalDirection(glm::radians(theta_deg), 0.2f);
@@ -139,7 +140,7 @@ TEST(OctreeBoundSampler, RejectionModeChiSquareAcceptsOnALambertianTable) {
   }
 }
 
-TEST(OctreeBoundSampler, AlbedoAcceptanceIsTheAlbedoOverFourZ) {
+BTF_STATISTICAL_TEST(OctreeBoundSampler, AlbedoAcceptanceIsTheAlbedoOverFourZ) {
   // E[accept] = (1/Z) int lum f cos_i cos_d d omega_h = albedo_lum / (4 Z); albedo_lum from the
   // exact mode's weights. Both sides estimated from 200,000 draws; 5 standard errors apart at most.
   for (const Case& c : cases()) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
 #include "btf/material/rgl_brdf.h"
@@ -115,7 +116,7 @@ std::shared_ptr<const btf::Material> halfVectorDpSampler(const std::string& file
   return btf::makeSampler(btf::SamplerKind::DpCdf, material, options);
 }
 
-TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
+BTF_STATISTICAL_TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
   const btf::SamplerOptions options = halfVectorOptions();
   const auto sampler = halfVectorDpSampler(GetParam(), options);
   for (const float theta_deg : {12.0f, 80.0f}) {

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/tier.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/io/merl.h"
 #include "btf/material/btf_material.h"
@@ -84,7 +85,7 @@ std::map<int, Rgb> regionMeans(const Image& image, const std::vector<int>& shape
 // tabulated glossy box and a real RGL material: the mean radiance of every wall, box and the light
 // agree within 5% (photon mapping's remaining bias at corners and edges plus both estimators'
 // noise; the regions' relative standard errors are below 0.5%).
-TEST(RenderEstimators, PathTracingAndProgressivePhotonMappingAgreePerRegion) {
+BTF_STATISTICAL_TEST(RenderEstimators, PathTracingAndProgressivePhotonMappingAgreePerRegion) {
   ASSERT_TRUE(std::filesystem::exists(cornellObj())) << "no shared Cornell box at " << cornellObj();
   const render::Scene scene(cornell(48, true));
   render::RenderSettings settings;
@@ -136,7 +137,7 @@ render::SceneDescription spheresUnderSky(int resolution, const std::string& samp
 // relmse is averaged over 16 seeds at 4 spp and 4 seeds at 64 spp: a glossy lobe drawn by the
 // cosine warp has weights up to ~20, so one 4-spp image's relmse swings with its few largest
 // samples, while the mean over images is what falls as 1/spp.
-TEST(RenderEstimators, EverySamplerConvergesToTheSameImageAtTheMonteCarloRate) {
+BTF_STATISTICAL_TEST(RenderEstimators, EverySamplerConvergesToTheSameImageAtTheMonteCarloRate) {
   render::RenderSettings settings;
   settings.spp = 4096;
   settings.seed = 1000;
@@ -165,7 +166,7 @@ TEST(RenderEstimators, EverySamplerConvergesToTheSameImageAtTheMonteCarloRate) {
 // 2e-3 at 64 spp. The bound covers the VQ error (luminance rel_rmse <= ~6% per entry at epsilon
 // 0.02, three levels) as it reaches the image, and the paths that part where the sampler's tables
 // differ; a wrong lookup or a mismatched uv mapping gives relmse far above it.
-TEST(RenderEstimators, CompressedBtfRendersLikeItsReference) {
+BTF_STATISTICAL_TEST(RenderEstimators, CompressedBtfRendersLikeItsReference) {
   ASSERT_TRUE(std::filesystem::exists(cornellObj())) << "no shared Cornell box at " << cornellObj();
   for (const auto& [label, data] : {std::make_pair(std::string("brdf"), makeGgxBtf(1, 1, false)),
                                     std::make_pair(std::string("textured"), makeGgxBtf(8, 8, true))}) {

@@ -11,7 +11,7 @@
 #include <filesystem>
 
 #include "btf/core/error.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/albedo.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/ggx.h"

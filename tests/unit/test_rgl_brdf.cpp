@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
@@ -24,7 +25,7 @@
 #include "btf/material/albedo.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf/sampling/chi2.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "support/test_support.h"
 
 namespace {
@@ -92,7 +93,7 @@ btf::TensorFile withoutIncidenceNode(btf::TensorFile file, std::size_t k) {
 
 class RglMaterial : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(RglMaterial, WarpSamplerPassesChi2AgainstItsOwnPdf) {
+BTF_STATISTICAL_TEST_P(RglMaterial, WarpSamplerPassesChi2AgainstItsOwnPdf) {
   // 300,000 draws per view, 16 x 32 equal-area cells (coarser than the default 20 x 40 to keep
   // the pdf quadrature of sharp lobes to a few seconds), significance 0.01, seed 1.
   const btf::RglBrdf& m = material(GetParam());

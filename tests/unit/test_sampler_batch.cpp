@@ -18,7 +18,7 @@
 #include "btf/material/lambert.h"
 #include "btf/sampling/dp_cdf_sampler.h"
 #include "btf/sampling/parameterization.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "sampler_test_materials.h"
 
 namespace btf {

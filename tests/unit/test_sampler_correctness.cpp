@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <numeric>
 
+#include "support/tier.h"
 #include "btf/core/math.h"
 #include "btf/core/rng.h"
 #include "btf/sampling/chi2.h"
@@ -95,7 +96,7 @@ btf::Chi2Result runChi2(const btf::Material& sampler, const glm::vec3& wo, std::
   return btf::chi2TestMaterial(sampler, wo, {}, options);
 }
 
-TEST_P(SamplerCorrectness, ChiSquareAcceptsAndPdfIntegratesToOne) {
+BTF_STATISTICAL_TEST_P(SamplerCorrectness, ChiSquareAcceptsAndPdfIntegratesToOne) {
   const auto sampler = makeSampler();
   const std::size_t v = (GetParam().material + GetParam().config) % 2;
   const btf::Chi2Result r = runChi2(*sampler, viewsFor(*sampler)[v], 17 + v);

@@ -17,7 +17,7 @@
 #include "btf/sampling/chi2.h"
 #include "btf/sampling/dp_cdf_sampler.h"
 #include "btf/sampling/quadtree_sampler.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 #include "btf/sampling/tabulated_sampler.h"
 #include "sampler_test_materials.h"
 

@@ -22,7 +22,7 @@
 #include "btf/material/phong.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace btf {
 namespace {

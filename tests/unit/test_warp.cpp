@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "btf/sampling/chi2.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace {
 

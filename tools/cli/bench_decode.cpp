@@ -21,7 +21,7 @@
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf/material/lafortune.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace btf::cli {
 // Named after the file: the unity build compiles the commands together, and their helpers share

@@ -29,7 +29,7 @@
 #include "btf/core/progress.h"
 #include "btf/fit/analytic_fit.h"
 #include "btf/io/atomic_file.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/tabulated_brdf.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"

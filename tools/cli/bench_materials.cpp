@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "btf/core/error.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "btf/material/rgl_brdf.h"
 #include "btf/material/tabulated_brdf.h"
 #include "merl_fit_report.h"

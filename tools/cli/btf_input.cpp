@@ -3,7 +3,7 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 #include "merl_fit_report.h"
 #include "measured_file.h"
 

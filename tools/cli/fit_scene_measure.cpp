@@ -6,7 +6,7 @@
 #include "btf/core/rng.h"
 #include "btf/render/image_metrics.h"
 #include "btf/sampling/sampler_choice.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace btf::cli {
 

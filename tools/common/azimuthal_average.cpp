@@ -2,7 +2,7 @@
 
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
-#include "btf/sampling/warp.h"
+#include "btf/core/warp.h"
 
 namespace btf::datagen {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "btf/io/merl_fits.h"
+#include "btf/fit/merl_fits.h"
 
 namespace btf::tools {
 

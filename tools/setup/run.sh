@@ -55,7 +55,7 @@ build() {  # build DIR [extra cmake args...]
   local dir=$1; shift
   echo "== building in $dir"
   cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
-  cmake --build "$dir" -j"$jobs" ${BUILD_TARGET:+--target "$BUILD_TARGET"}
+  cmake --build "$dir" -j"$jobs" ${BUILD_TARGET:+--target $BUILD_TARGET}
 }
 
 demo() {
@@ -141,28 +141,21 @@ demo() {
 
 install_packages
 case "$job" in
-  demo) build build -DCMAKE_BUILD_TYPE=Release; demo ;;
+  demo) # The demo runs the two programs alone: the test programs and benchmarks are not built.
+        BUILD_TARGET="btf_cli btf_datagen" build build -DCMAKE_BUILD_TYPE=Release; demo ;;
   test) build build -DCMAKE_BUILD_TYPE=Release
         ctest --test-dir build --output-on-failure -j"$jobs" ;;
-  asan) # Tests that write thousands of images: the Release pass runs them all; under the sanitizers
-        # two folder round trips (CorruptOrTruncated, MissingImage) still cover the I/O paths, and the
-        # partial-view round trips (BtfPartialViewsImages, a few views each) the PNG 8/16 codecs that
-        # the whole-folder PNG round trips (the slowest tests under the sanitizers) repeat 6,561 times.
-        heavy_io="BtfImageFolder\\.(ExrRoundTrip|FailedWrite|OtherNameOrderings|Duplicate|TooFewChannels|NanOrNegative|SidecarScale|DifferentlySized)|BtfImageFolderPng\\.RoundTrip|SamplerPassesChiSquareOnDataAndVq"
-        # Only the library's tests run under the sanitizers: building the command-line programs a
+  asan) # Only the library's tests run under the sanitizers: building the command-line programs a
         # second time would double CI's compile time, and their tests run in the Release pass.
         # Line tables only (-g1): the sanitizers' reports still name file and line, while the
         # compile is shorter and the objects smaller than with full debug information.
         BUILD_TARGET=btf_unit_tests build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
           "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DBTF_SANITIZE=ON -DBTF_BUILD_BENCHMARKS=OFF
-        # The large statistical and accuracy runs repeat the same arithmetic at high sample counts
-        # and already run in the Release suite; under the sanitizers (~4x slower) they would take
-        # most of CI's time, while the small tests still reach every code path (the renderer's
-        # estimator comparisons are left out; its closed-form and furnace tests stay in). The
-        # analytic fits' recovery runs (Ceres on 60,000 cells, seconds each in Release) likewise;
-        # the fitter's formulas and its error paths stay in.
+        # The statistical and slow tiers (tests/support/tier.h: high sample counts, large fits,
+        # thousands of image writes) repeat arithmetic that the unit tier reaches at small sizes
+        # and run in the Release suite; under the sanitizers (several times slower) they would
+        # take most of CI's time.
         ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-          ctest --test-dir build-asan --output-on-failure -j"$jobs" -L unit \
-            -E "AlbedoAcceptance|EvalMatchesAnalytic|WarpSamplerPassesChi2|ConserveEnergyAtFullAlbedo|QuadratureMatchesMonteCarlo|SamplerPassesChi2|ChiSquareAccepts|RenderEstimators|AnalyticFit\\.(Recovers|AModelThat|UnmeasuredCells|TheSameFit)|$heavy_io" ;;
+          ctest --test-dir build-asan --output-on-failure -j"$jobs" -L '^unit$' ;;
   *) echo "usage: $0 [demo|test|asan]" >&2; exit 2 ;;
 esac
