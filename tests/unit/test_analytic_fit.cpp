@@ -19,7 +19,7 @@
 #include "btf/material/lafortune.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
-#include "fit/src/fit_models.h"
+#include "fit/fit_models.h"
 #include "merl_fit_reference.h"
 #include "support/test_support.h"
 #include "fit_expectations.h"

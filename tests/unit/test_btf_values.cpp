@@ -12,7 +12,7 @@
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf_test_data.h"
-#include "compress/src/vq_impl.h"
+#include "compress/vq_impl.h"
 
 namespace btf {
 namespace {

@@ -20,8 +20,8 @@
 #include "btf_test_data.h"
 #include "support/test_support.h"
 #include "camera_btf.h"
-#include "compress/src/vq_basis.h"
-#include "compress/src/vq_impl.h"
+#include "compress/vq_basis.h"
+#include "compress/vq_impl.h"
 #include "btf_patterns.h"
 #include "synthetic_btf.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "btf/core/rng.h"
-#include "compress/src/vq_impl.h"
+#include "compress/vq_impl.h"
 
 namespace {
 
