@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "btf/core/error.h"
+#include "btf/core/terminal.h"
 #include "btf/core/math.h"
 #include "btf/io/merl.h"
 #include "btf/material/albedo.h"
@@ -19,10 +20,9 @@
 #include "merl_fit_report.h"
 #include "presets.h"
 #include "table_artifacts.h"
-#include "terminal.h"
 
 namespace btf::datagen {
-using namespace btf::tools;
+using namespace btf::datagen;
 namespace {
 
 // The incidence angles `btf info` reports, so its output can be compared line by line.
@@ -236,7 +236,7 @@ int main(int argc, char** argv) {
                  "Print the analytic f (with tint and falloff) at THETA_I PHI_I THETA_O PHI_O degrees; writes nothing")
       ->expected(4);
   app.add_flag("--json", o.json, "Machine-readable output");
-  btf::tools::installTerminalHooks();
+  btf::installTerminalHooks();
   try {
     app.parse(argc, argv);
     if (btf_command->parsed()) btf::datagen::runBtfCommand(btf_options);

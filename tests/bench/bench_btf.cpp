@@ -28,7 +28,7 @@ struct BtfBenchFixture {
   btf::BtfMaterial vq_nearest{vq, btf::BtfTexelFilter::Nearest};
   btf::BtfMaterial data_nearest{data, btf::BtfTexelFilter::Nearest};
   // The literal one-lobe fit of bench_eval.cpp's fallback (a glossy lobe, exponent 15); `btf bench
-  // decode` (tools/cli/bench_decode.cpp) measures against the same model: change both together.
+  // decode` (tools/bench/bench_decode.cpp) measures against the same model: change both together.
   btf::Lafortune lafortune{btf::Rgb(0.2f), {btf::LafortuneLobe{btf::Rgb(0.2f), {-0.6f, -0.6f, 0.55f}, 15.0f}}};
   struct Query {
     glm::vec3 wi, wo;

@@ -17,7 +17,7 @@
 
 // btf_bench does not link the command line: the comparison and its structures are compiled in from
 // their one source, so that this benchmark and `btf bench render` time the same code.
-#include "../../tools/cli/bench_photon_search.cpp"
+#include "../../tools/bench/bench_photon_search.cpp"
 
 namespace {
 

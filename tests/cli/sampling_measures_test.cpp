@@ -1,4 +1,4 @@
-// The efficiency ceiling of `btf bench sampling` (tools/cli/sampling_measures.h): the variance of
+// The efficiency ceiling of `btf bench sampling` (tools/cli/support/sampling_measures.h): the variance of
 // a sampler exactly proportional to f cos, estimated from another sampler's draws, and the
 // timings it is made of.
 #include <gtest/gtest.h>

@@ -1,5 +1,6 @@
-// The subcommands of `btf`, one source file each. Every register function adds its subcommand to
-// the app; the callbacks throw btf::Error (or CLI11 errors) and main turns them into messages.
+// The verbs of `btf`, one source file each in verbs/. Every register function adds its verb to the
+// app; the callbacks throw btf::Error (or CLI11 errors) and main turns them into messages. main
+// decides the order and the groups of `btf --help`.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -11,8 +12,9 @@ void registerEvalCommand(CLI::App& app);
 void registerConvertCommand(CLI::App& app);
 void registerPlotCommand(CLI::App& app);
 void registerSampleCommand(CLI::App& app);
-void registerBenchCommand(CLI::App& app);
-void registerCompressCommands(CLI::App& app);  // compress, decompress and merge
+void registerCompressCommand(CLI::App& app);
+void registerDecompressCommand(CLI::App& app);
+void registerMergeCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerFitCommand(CLI::App& app);

@@ -1,15 +1,17 @@
-// `btf`: inspect, evaluate, convert, plot, sample and benchmark measured materials.
+// `btf`: inspect, convert, compress, sample, render and fit measured materials, and measure how
+// libbtf's methods compare (`btf bench`).
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 
 #include "btf/core/error.h"
+#include "btf/core/terminal.h"
 #include "btf/io/image.h"
+#include "bench_command.h"
 #include "commands.h"
-#include "terminal.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"btf: measured BRDF/BTF toolkit (inspect, evaluate, convert, plot, sample, compress, bench)", "btf"};
+  CLI::App app{"btf: measured BRDF/BTF toolkit", "btf"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "btf 0.1.0");
   // Before the subcommand (`btf --max-image-pixels 300000000 render ...`): applied as it is parsed.
@@ -23,18 +25,25 @@ int main(int argc, char** argv) {
          "Largest image (width x height) any reader accepts; a header claiming more is refused as corrupt "
          "(default 67108864, 8192 x 8192)")
       ->check(CLI::PositiveNumber);
-  btf::cli::registerInfoCommand(app);
-  btf::cli::registerEvalCommand(app);
-  btf::cli::registerConvertCommand(app);
-  btf::cli::registerPlotCommand(app);
-  btf::cli::registerSampleCommand(app);
-  btf::cli::registerBenchCommand(app);
-  btf::cli::registerCompressCommands(app);
-  btf::cli::registerCompareCommand(app);
-  btf::cli::registerRenderCommand(app);
-  btf::cli::registerFitCommand(app);
-  btf::cli::registerFitSceneCommand(app);
-  btf::tools::installTerminalHooks();
+  // `btf --help` lists the verbs by task. Each group is filled in the order its verbs register.
+  const auto add = [&app](const char* group, void (*register_verb)(CLI::App&)) {
+    register_verb(app);
+    app.get_subcommands({}).back()->group(group);
+  };
+  add("Inspect", btf::cli::registerInfoCommand);
+  add("Inspect", btf::cli::registerEvalCommand);
+  add("Inspect", btf::cli::registerPlotCommand);
+  add("Inspect", btf::cli::registerCompareCommand);
+  add("Convert and compress", btf::cli::registerConvertCommand);
+  add("Convert and compress", btf::cli::registerCompressCommand);
+  add("Convert and compress", btf::cli::registerDecompressCommand);
+  add("Convert and compress", btf::cli::registerMergeCommand);
+  add("Sample and render", btf::cli::registerSampleCommand);
+  add("Sample and render", btf::cli::registerRenderCommand);
+  add("Fit and select", btf::cli::registerFitCommand);
+  add("Fit and select", btf::cli::registerFitSceneCommand);
+  add("Experiments", btf::cli::registerBenchCommand);
+  btf::installTerminalHooks();
   btf::decodeExrInCallingThreads();  // BTF folders are read many images at a time (btf/io/image.h)
   try {
     app.parse(argc, argv);

@@ -1,8 +1,6 @@
 // `btf compress IN OUT.btfz`: multi-level VQ of a BTF (an image folder, or a BRDF file as a
 // one-texel BTF), then a check of the written file against the input (rel_rmse, psnr_db, ratios).
 // `btf compress IN1 IN2 ... OUT.btfz`: a database of materials with shared codebooks.
-// `btf decompress IN.btfz OUT_DIR [--material NAME]`: the image folder of a .btfz (EXR or PNG).
-// `btf merge A.btfz B.btfz ... -o DB.btfz`: files compressed apart joined into one database.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -186,43 +184,9 @@ void runCompressDatabase(const CompressArgs& args) {
                 static_cast<unsigned long long>(alone_total), report["saving"].get<double>());
 }
 
-void runDecompress(const std::string& in, const std::string& out, const std::string& format_name, const std::string& material) {
-  BtfImageWriteOptions options;
-  if (format_name == "exr") options.format = BtfImageFormat::Exr;
-  else if (format_name == "png8" || format_name == "png") options.format = BtfImageFormat::Png8;
-  else if (format_name == "png16") options.format = BtfImageFormat::Png16;
-  else throw Error("unknown --format '" + format_name + "' (expected exr, png8 or png16)");
-  if (std::filesystem::path(in).extension() != ".btfz") throw FileError(in, "is not a .btfz file");
-  const VqBtf compressed = VqBtf::read(in, material);
-  writeBtfImageFolder(compressed, out, options);
-  std::printf("wrote %s: %d x %d texels, %s, %d %s images\n", out.c_str(), compressed.width(), compressed.height(),
-              compressed.views().describe().c_str(), compressed.views().count() * kBtfDirectionCount,
-              btfImageFormatName(options.format).c_str());
-}
-
-void runMerge(const std::vector<std::string>& in, const std::string& out) {
-  if (std::filesystem::path(out).extension() != ".btfz") throw FileError(out, "the output must end in .btfz");
-  std::vector<VqDatabase> parts;
-  std::uint64_t in_bytes = 0;
-  for (const std::string& path : in) {
-    if (std::filesystem::path(path).extension() != ".btfz") throw FileError(path, "is not a .btfz file");
-    parts.push_back(VqDatabase::read(path));
-    in_bytes += std::filesystem::file_size(path);
-  }
-  VqDatabase merged = mergeVqDatabases(parts, in);
-  merged.write(out);
-  const std::uint64_t bytes = std::filesystem::file_size(out);
-  std::printf("wrote %s: %zu materials from %zu files, %llu bytes (the inputs: %llu, factor %.2f)\n", out.c_str(),
-              merged.size(), in.size(), static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(in_bytes),
-              double(in_bytes) / double(bytes));
-  std::printf("shared codebook entries (level 1, level 2):");
-  for (std::size_t n : merged.sharedEntries()) std::printf(" %zu", n);
-  std::printf("\n");
-}
-
 }  // namespace
 
-void registerCompressCommands(CLI::App& app) {
+void registerCompressCommand(CLI::App& app) {
   auto args = std::make_shared<CompressArgs>();
   auto* cmd = app.add_subcommand(
       "compress",
@@ -273,25 +237,6 @@ void registerCompressCommands(CLI::App& app) {
     if (args->in.size() == 1) runCompress(*args);
     else runCompressDatabase(*args);
   });
-
-  auto in = std::make_shared<std::string>(), out = std::make_shared<std::string>();
-  auto format = std::make_shared<std::string>("exr");
-  auto* dec = app.add_subcommand("decompress", "Write the image folder (one image per view and light) of a .btfz file");
-  dec->add_option("IN", *in, "Input .btfz")->required();
-  dec->add_option("OUT", *out, "Output folder, written atomically (a temporary folder renamed at the end)")->required();
-  dec->add_option("--format", *format, "exr (float), png8 or png16 (scaled; btf.json holds the scale)")->capture_default_str();
-  auto material = std::make_shared<std::string>();
-  dec->add_option("--material", *material, "The material to decompress from a database (btf info lists them)");
-  dec->callback([in, out, format, material] { runDecompress(*in, *out, *format, *material); });
-
-  auto parts = std::make_shared<std::vector<std::string>>();
-  auto merged = std::make_shared<std::string>();
-  auto* merge = app.add_subcommand(
-      "merge", "Join .btfz files (single materials or databases, compressed with the same options, e.g. on different "
-               "machines) into one database; lossless: each distinct codebook entry is stored once");
-  merge->add_option("IN", *parts, "Input .btfz files")->required()->expected(1, -1)->check(CLI::ExistingFile);
-  merge->add_option("-o,--output", *merged, "Output .btfz database, written atomically")->required();
-  merge->callback([parts, merged] { runMerge(*parts, *merged); });
 }
 
 }  // namespace btf::cli

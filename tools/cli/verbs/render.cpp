@@ -56,7 +56,7 @@ void runRender(const RenderOptions& o) {
 
   render::SceneLoadOptions load;
   load.sampler_override = o.sampler;
-  load.fits_folders = tools::defaultFitsFolders();
+  load.fits_folders = datagen::defaultFitsFolders();
   render::SceneDescription description = render::loadSceneDescription(o.scene, load);
   render::RenderSettings settings;
   settings.spp = o.spp.value_or(description.render.spp);

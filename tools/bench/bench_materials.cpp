@@ -57,7 +57,7 @@ BenchMaterial loadBenchMaterial(const std::string& name) {
   const std::size_t colon = name.find(':');
   const std::string merl_name = name.substr(0, colon);
   const FitModel model = colon == std::string::npos ? FitModel::Sgd : parseFitModel(name.substr(colon + 1));
-  const MerlFits fits = tools::loadMerlFits("");
+  const MerlFits fits = datagen::loadMerlFits("");
   try {
     return {name, std::shared_ptr<const Material>(makeMerlFitMaterial(fits, merl_name, model))};
   } catch (const Error& e) {

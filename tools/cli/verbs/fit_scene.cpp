@@ -109,7 +109,7 @@ void runFitScene(const FitSceneOptions& o) {
   if (o.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
 
   render::SceneLoadOptions load;
-  load.fits_folders = tools::defaultFitsFolders();
+  load.fits_folders = datagen::defaultFitsFolders();
   const render::SceneDescription description = render::loadSceneDescription(scene_file, load);
   json raw;
   {

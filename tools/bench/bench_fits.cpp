@@ -164,7 +164,7 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Erro
 }
 
 void runBenchFits(const Args& args) {
-  const MerlFits fits = tools::loadMerlFits(args.fits_dir);
+  const MerlFits fits = datagen::loadMerlFits(args.fits_dir);
   std::vector<std::string> materials;
   if (args.materials.empty()) {
     for (const std::string& name : fits.names())

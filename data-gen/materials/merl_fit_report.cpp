@@ -9,7 +9,7 @@
 
 #include "btf/core/error.h"
 
-namespace btf::tools {
+namespace btf::datagen {
 namespace fs = std::filesystem;
 
 namespace {
@@ -114,4 +114,4 @@ void printFitComparison(const MerlFitComparison& c) {
   }
 }
 
-}  // namespace btf::tools
+}  // namespace btf::datagen

@@ -11,7 +11,7 @@
 //                            with the fraction of texels at or below it (the empirical CDF)
 //   DIR/compressibility_rank.dat     per pattern, the relative tail energy left by rank k, k = 0..min(T, D)
 //   DIR/compressibility_nearest.png/.svg, compressibility_rank.png/.svg and compressibility_charts.gp
-//                            (gnuplot, tools/common/gnuplot_charts.h; skipped with a message without it)
+//                            (gnuplot, tools/cli/support/gnuplot_charts.h; skipped with a message without it)
 // The .dat files hold one block per pattern, blocks separated by two blank lines (gnuplot `index`),
 // each opened by a "# pattern NAME" comment.
 #include <algorithm>

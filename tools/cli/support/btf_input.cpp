@@ -25,7 +25,7 @@ BtfData brdfAsBtf(const Material& material, const std::string& name) {
 
 namespace {
 // "merl-fit:MODEL:NAME" (e.g. merl-fit:sgd:alum-bronze): a published fit of a MERL material, from
-// the fits folder the other verbs use (tools/common/merl_fit_report.h).
+// the fits folder the other verbs use (data-gen/materials/merl_fit_report.h).
 BtfInput openMerlFit(const std::string& spec) {
   const std::string rest = spec.substr(std::string(kMerlFitPrefix).size());
   const std::size_t colon = rest.find(':');
@@ -33,7 +33,7 @@ BtfInput openMerlFit(const std::string& spec) {
     throw Error("'" + spec + "': expected merl-fit:MODEL:NAME, e.g. merl-fit:sgd:alum-bronze");
   const FitModel model = parseFitModel(rest.substr(0, colon));
   const std::string name = rest.substr(colon + 1);
-  const MerlFits fits = MerlFits::load(findMerlFitsFolder(tools::defaultFitsFolders()));
+  const MerlFits fits = MerlFits::load(findMerlFitsFolder(datagen::defaultFitsFolders()));
   const auto material = makeMerlFitMaterial(fits, name, model);
   auto data = std::make_shared<BtfData>(brdfAsBtf(*material, name + "-" + fitModelName(model)));
   return {BtfInputKind::Brdf, data, std::string(fitModelName(model)) + " fit of a MERL material as a one-texel BTF at 81 x 81 directions"};

@@ -1,4 +1,4 @@
-#include "terminal.h"
+#include "btf/core/terminal.h"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 
 #include "btf/core/progress.h"
 
-namespace btf::tools {
+namespace btf {
 
 void installTerminalHooks() {
   setLogHook([](LogLevel level, std::string_view message) {
@@ -26,4 +26,4 @@ void installTerminalHooks() {
   });
 }
 
-}  // namespace btf::tools
+}  // namespace btf

@@ -59,7 +59,7 @@ double seconds(std::chrono::steady_clock::time_point since) {
 render::SceneDescription loadScene(const Args& a, const std::string& sampler) {
   render::SceneLoadOptions load;
   load.sampler_override = sampler;
-  load.fits_folders = tools::defaultFitsFolders();
+  load.fits_folders = datagen::defaultFitsFolders();
   render::SceneDescription d = render::loadSceneDescription(a.scene, load);
   d.camera.width = d.camera.height = a.resolution;
   return d;

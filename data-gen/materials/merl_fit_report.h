@@ -11,7 +11,7 @@
 
 #include "btf/fit/merl_fits.h"
 
-namespace btf::tools {
+namespace btf::datagen {
 
 // Fits disagree strongly when their mean-RGB albedos at 0/30/60 degrees differ by more than this
 // fraction of the largest (see compareMerlFits). At 10%, 93 of the 100 MERL materials would be
@@ -39,4 +39,4 @@ nlohmann::json comparisonJson(const MerlFitComparison& comparison);
 // Text: one line per model, then a "warning:" line when the fits disagree.
 void printFitComparison(const MerlFitComparison& comparison);
 
-}  // namespace btf::tools
+}  // namespace btf::datagen

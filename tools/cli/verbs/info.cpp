@@ -140,7 +140,7 @@ void runInfo(const InfoOptions& o) {
   const TabulatedBrdf brdf(table, o.lookup);
   const char* lookup_name = tableLookupName(o.lookup);
   const nlohmann::json albedo = albedoJson(brdf);
-  const std::optional<MerlFitComparison> fits = tools::compareFitsOfFile(file, o.fits_of);
+  const std::optional<MerlFitComparison> fits = datagen::compareFitsOfFile(file, o.fits_of);
   const std::optional<OctreeTable> octree =
       format == MeasuredFormat::Octree ? std::optional<OctreeTable>(readOctreeFile(file)) : std::nullopt;
 
@@ -154,7 +154,7 @@ void runInfo(const InfoOptions& o) {
                      {"f_measured", {{"min", rgbJson(stats.min)}, {"max", rgbJson(stats.max)}, {"mean", rgbJson(stats.mean)}}},
                      {"lookup", lookup_name},
                      {"albedo", albedo},
-                     {"published_fits", fits ? tools::comparisonJson(*fits) : nlohmann::json()},
+                     {"published_fits", fits ? datagen::comparisonJson(*fits) : nlohmann::json()},
                      {"octree", octree ? nlohmann::json{{"nodes", octree->nodes().size()},
                                                         {"leaves", octree->leaves().size()},
                                                         {"tolerance", octree->tolerance()},
@@ -182,7 +182,7 @@ void runInfo(const InfoOptions& o) {
   for (const auto& a : albedo)
     std::printf("    theta_o %2.0f deg  %.4f %.4f %.4f\n", a["theta_o_deg"].get<float>(), a["rgb"][0].get<float>(),
                 a["rgb"][1].get<float>(), a["rgb"][2].get<float>());
-  if (fits) tools::printFitComparison(*fits);
+  if (fits) datagen::printFitComparison(*fits);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@
 #include "btf/sampling/chi2.h"
 #include "btf/sampling/quadtree_sampler.h"
 #include "comma_list.h"
-#include "commands.h"
+#include "bench_command.h"
 #include "btf/sampling/sampler_choice.h"
 #include "sampling_charts.h"
 #include "sampling_measures.h"
