@@ -1,6 +1,5 @@
 #include "btf/io/btf_images.h"
 
-#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
@@ -21,10 +20,12 @@
 #include "btf/core/progress.h"
 #include "btf/io/atomic_file.h"
 #include "btf/io/image.h"
+#include "image_backend.h"
 #include "image_input.h"
 
 namespace btf {
 namespace fs = std::filesystem;
+using image_backend::PixelType;
 namespace {
 
 constexpr int kImagesPerBtf = kBtfDirectionCount * kBtfDirectionCount;
@@ -56,14 +57,14 @@ std::string sizeText(int width, int height) { return std::to_string(width) + " x
 // whatever the thread count.
 // An image of the folder, its header checked against the BTF's size (that of `first`) before any
 // pixel is read.
-std::unique_ptr<OIIO::ImageInput> openBtfImage(const fs::path& path, int width, int height, const fs::path& first) {
+std::unique_ptr<image_backend::Reader> openBtfImage(const fs::path& path, int width, int height, const fs::path& first) {
   auto in = openImageInput(path);
-  const OIIO::ImageSpec& spec = in->spec();
+  const image_backend::ImageHeader& spec = in->header();
   if (spec.width != width || spec.height != height)
     throw FileError(path, "is " + sizeText(spec.width, spec.height) + " pixels, but the BTF's images are " +
                               sizeText(width, height) + " (" + first.filename().string() + ")");
-  if (spec.nchannels < 3)
-    throw FileError(path, "has " + std::to_string(spec.nchannels) + " channel(s), a BTF image needs RGB (3 or more)");
+  if (spec.channels < 3)
+    throw FileError(path, "has " + std::to_string(spec.channels) + " channel(s), a BTF image needs RGB (3 or more)");
   return in;
 }
 
@@ -266,9 +267,9 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
   result.transfer_override_ = sidecar.transfer;
   const fs::path& first = result.imagePath(result.views_.view(0), 0);
   auto in = openImageInput(first);
-  result.width_ = in->spec().width;
-  result.height_ = in->spec().height;
-  result.first_format_ = in->spec().format;
+  result.width_ = in->header().width;
+  result.height_ = in->header().height;
+  result.first_type_ = {in->header().floating_point, in->header().stored == PixelType::UInt8};
   if ((sidecar.width && *sidecar.width != result.width_) || (sidecar.height && *sidecar.height != result.height_))
     throw FileError(folder / kBtfSidecarName,
                     "records " + std::to_string(sidecar.width.value_or(result.width_)) + " x " +
@@ -277,19 +278,19 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
   return result;
 }
 
-BtfTransfer BtfImageFolder::transferOf(const OIIO::TypeDesc& format) const {
-  if (format.is_floating_point()) return BtfTransfer::Linear;
+BtfTransfer BtfImageFolder::transferOf(StoredType stored) const {
+  if (stored.floating_point) return BtfTransfer::Linear;
   if (transfer_override_) return *transfer_override_;
-  return format.basetype == OIIO::TypeDesc::UINT8 ? BtfTransfer::Srgb : BtfTransfer::Linear;
+  return stored.eight_bit ? BtfTransfer::Srgb : BtfTransfer::Linear;
 }
 
 std::optional<BtfTransfer> BtfImageFolder::transfer() const {
-  if (first_format_.is_floating_point()) return std::nullopt;
-  return transferOf(first_format_);
+  if (first_type_.floating_point) return std::nullopt;
+  return transferOf(first_type_);
 }
 
 std::optional<float> BtfImageFolder::white() const {
-  if (first_format_.is_floating_point()) return std::nullopt;
+  if (first_type_.floating_point) return std::nullopt;
   return value_scale_;
 }
 
@@ -320,11 +321,12 @@ void BtfImageFolder::checkImageHeaders() const {
 void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) const {
   const fs::path& path = imagePath(view, light);
   auto in = openBtfImage(path, width_, height_, imagePath(views_.view(0), 0));
-  const OIIO::ImageSpec& spec = in->spec();
+  const image_backend::ImageHeader& spec = in->header();
   const std::size_t texels = std::size_t(width_) * std::size_t(height_);
   Rgb* dst = out.data() + std::size_t(light) * texels;
-  const BtfTransfer transfer = transferOf(spec.format);
-  if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+  const bool eight_bit = spec.stored == PixelType::UInt8;
+  const BtfTransfer transfer = transferOf({spec.floating_point, eight_bit});
+  if (eight_bit) {
     // 8-bit codes through a table of their 256 values (the sRGB curve's pow per pixel would cost
     // more than the decoding of the JPEG).
     std::array<float, 256> table;
@@ -337,8 +339,8 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
       codes.resize(texels * 3);
       return codes.data();
     };
-    if (!readPixels(*in, 0, 3, OIIO::TypeDesc::UINT8, allocate))
-      throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
+    if (!in->readPixels(0, 3, PixelType::UInt8, allocate))
+      throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->error());
     for (std::size_t i = 0; i < texels; ++i)
       dst[i] = Rgb(table[codes[3 * i]], table[codes[3 * i + 1]], table[codes[3 * i + 2]]);
     return;
@@ -349,9 +351,9 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
     return pixels.data();
   };
   // Channels 0..2 only; integer data arrives as code / max_code.
-  if (!readPixels(*in, 0, 3, OIIO::TypeDesc::FLOAT, allocate))
-    throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->geterror());
-  const bool is_float = spec.format.is_floating_point();
+  if (!in->readPixels(0, 3, PixelType::Float, allocate))
+    throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in->error());
+  const bool is_float = spec.floating_point;
   const float scale = is_float ? 1.0f : value_scale_;
   if (transfer == BtfTransfer::Srgb)
     for (float& p : pixels) p = srgbDecode(p);  // 16-bit codes: rarely sRGB, not worth a table
@@ -438,27 +440,28 @@ std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_sca
 
 void writeOneImage(const fs::path& path, int width, int height, BtfImageFormat format, const Rgb* values,
                    float value_scale) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw FileError(path, "no image writer for this extension: " + OIIO::geterror());
+  std::string error;
+  auto out = imageBackend().createWriter(path.string(), error);
+  if (!out) throw FileError(path, "no image writer for this extension: " + error);
   const std::size_t count = std::size_t(width) * std::size_t(height);
-  OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
+  PixelType type = PixelType::Float;
   std::vector<std::uint8_t> codes8;
   std::vector<std::uint16_t> codes16;
   const void* data = values;
   static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is read as three packed floats");
   if (format == BtfImageFormat::Png8) {
     codes8 = quantize<std::uint8_t>(values, count, value_scale, btfWriterTransfer(format));
-    type = OIIO::TypeDesc::UINT8;
+    type = PixelType::UInt8;
     data = codes8.data();
   } else if (format == BtfImageFormat::Png16) {
     codes16 = quantize<std::uint16_t>(values, count, value_scale, btfWriterTransfer(format));
-    type = OIIO::TypeDesc::UINT16;
+    type = PixelType::UInt16;
     data = codes16.data();
   }
-  OIIO::ImageSpec spec(width, height, 3, type);
-  if (format == BtfImageFormat::Exr) spec.attribute("compression", "zip");
-  if (!out->open(path.string(), spec) || !out->write_image(type, data) || !out->close())
-    throw FileError(path, "cannot be written: " + out->geterror());
+  image_backend::WriteSpec spec{width, height, 3, type, {}};
+  if (format == BtfImageFormat::Exr) spec.attributes.emplace_back("compression", std::string("zip"));
+  if (!out->open(path.string(), spec) || !out->write(type, data) || !out->close())
+    throw FileError(path, "cannot be written: " + out->error());
 }
 
 // A destination we may replace: absent, an empty folder, or a BTF folder this writer made.

@@ -1,7 +1,5 @@
 #include "btf/io/image.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -9,10 +7,12 @@
 
 #include "btf/core/error.h"
 #include "btf/io/atomic_file.h"
+#include "image_backend.h"
 #include "image_input.h"
 
 namespace btf {
 namespace fs = std::filesystem;
+using image_backend::PixelType;
 namespace {
 
 std::string lowerExtension(const fs::path& path) {
@@ -22,10 +22,10 @@ std::string lowerExtension(const fs::path& path) {
 }
 
 // Pixel type stored in the file for each extension writeImage accepts.
-OIIO::TypeDesc storedPixelType(const fs::path& path) {
+PixelType storedPixelType(const fs::path& path) {
   const std::string ext = lowerExtension(path);
-  if (ext == ".png") return OIIO::TypeDesc::UINT8;
-  if (ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".hdr") return OIIO::TypeDesc::FLOAT;
+  if (ext == ".png") return PixelType::UInt8;
+  if (ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".hdr") return PixelType::Float;
   throw FileError(path, "unknown image extension '" + ext + "' (expected .exr, .png, .tif or .hdr)");
 }
 
@@ -37,10 +37,6 @@ void requireConsistent(const fs::path& path, const Image& image) {
     throw FileError(path, "image data size does not match its dimensions");
 }
 
-void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const ImageAttribute& value) {
-  std::visit([&](const auto& v) { spec.attribute(name, v); }, value);
-}
-
 // The attributes a stack layer carries besides OpenImageIO's and OpenEXR's own bookkeeping.
 bool isUserAttribute(const std::string& name) {
   return name.rfind("oiio:", 0) != 0 && name.rfind("openexr:", 0) != 0 && name != "name" &&
@@ -49,38 +45,58 @@ bool isUserAttribute(const std::string& name) {
          name != "ResolutionUnit" && name != "DateTime" && name != "Software";
 }
 
-Image readCurrentSubimage(const fs::path& path, OIIO::ImageInput& in, int subimage) {
-  const OIIO::ImageSpec& spec = in.spec();
+Image readCurrentSubimage(const fs::path& path, image_backend::Reader& in, int subimage) {
+  const image_backend::ImageHeader& spec = in.header();
   requireImageSizeWithinLimits(path, spec);
   Image image;
   auto allocate = [&]() -> void* {
-    image = Image(spec.width, spec.height, spec.nchannels);
+    image = Image(spec.width, spec.height, spec.channels);
     return image.pixels.data();
   };
-  if (!readPixels(in, subimage, spec.nchannels, OIIO::TypeDesc::FLOAT, allocate))
-    throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in.geterror());
+  if (!in.readPixels(subimage, spec.channels, PixelType::Float, allocate))
+    throw FileError(path, "pixel data cannot be read (truncated or corrupt?): " + in.error());
   return image;
+}
+
+// A writer for the path's extension (the temporary path keeps the destination's extension).
+std::unique_ptr<image_backend::Writer> createWriter(const fs::path& destination, const fs::path& tmp) {
+  std::string error;
+  auto out = imageBackend().createWriter(tmp.string(), error);
+  if (!out) throw FileError(destination, "no image writer for this extension: " + error);
+  return out;
 }
 
 }  // namespace
 
 void writeImage(const fs::path& path, const Image& image) {
-  const OIIO::TypeDesc stored = storedPixelType(path);
+  const PixelType stored = storedPixelType(path);
   requireConsistent(path, image);
   writeViaTemporaryPath(path, [&](const fs::path& tmp) {
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw FileError(path, "no image writer for this extension: " + OIIO::geterror());
-    OIIO::ImageSpec spec(image.width, image.height, image.channels, stored);
-    if (lowerExtension(path) == ".exr") spec.attribute("compression", "zip");
-    if (!out->open(tmp.string(), spec)) throw FileError(path, "cannot be written: " + out->geterror());
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !out->close())
-      throw FileError(path, "cannot be written: " + out->geterror());
+    auto out = createWriter(path, tmp);
+    image_backend::WriteSpec spec{image.width, image.height, image.channels, stored, {}};
+    if (lowerExtension(path) == ".exr") spec.attributes.emplace_back("compression", std::string("zip"));
+    if (!out->open(tmp.string(), spec)) throw FileError(path, "cannot be written: " + out->error());
+    if (!out->write(PixelType::Float, image.pixels.data()) || !out->close())
+      throw FileError(path, "cannot be written: " + out->error());
   });
 }
 
 Image readImage(const fs::path& path) {
   auto in = openImageInput(path);
   return readCurrentSubimage(path, *in, 0);
+}
+
+std::optional<Image> renderTextMask(std::string_view text, int font_size, const std::string& font) {
+  image_backend::TextMask mask;
+  bool font_missing = false;
+  std::string error;
+  if (!imageBackend().renderText(std::string(text), font_size, font, mask, font_missing, error)) {
+    if (font_missing) return std::nullopt;
+    throw Error("cannot render the text '" + std::string(text) + "': " + error);
+  }
+  Image image(mask.width, mask.height, 1);
+  image.pixels = std::move(mask.coverage);
+  return image;
 }
 
 float srgbEncode(float linear) {
@@ -107,47 +123,41 @@ void writeImageStack(const fs::path& path, const std::vector<StackLayer>& layers
   if (lowerExtension(path) != ".exr")
     throw FileError(path, "an image stack must be written as .exr (multi-part OpenEXR)");
   if (layers.empty()) throw FileError(path, "cannot write an image stack without layers");
-  std::vector<OIIO::ImageSpec> specs;
+  std::vector<image_backend::WriteSpec> specs;
   for (const StackLayer& layer : layers) {
     requireConsistent(path, layer.image);
-    OIIO::ImageSpec spec(layer.image.width, layer.image.height, layer.image.channels, OIIO::TypeDesc::FLOAT);
-    spec.attribute("compression", "zip");
-    spec.attribute("name", layer.name);
-    for (const auto& [name, value] : layer.attributes) setAttribute(spec, name, value);
+    image_backend::WriteSpec spec{layer.image.width, layer.image.height, layer.image.channels, PixelType::Float, {}};
+    spec.attributes.emplace_back("compression", std::string("zip"));
+    spec.attributes.emplace_back("name", layer.name);
+    for (const auto& [name, value] : layer.attributes) spec.attributes.emplace_back(name, value);
     specs.push_back(std::move(spec));
   }
   writeViaTemporaryPath(path, [&](const fs::path& tmp) {
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out || !out->supports("multiimage"))
-      throw FileError(path, "no multi-part EXR writer available: " + OIIO::geterror());
-    if (!out->open(tmp.string(), int(specs.size()), specs.data()))
-      throw FileError(path, "cannot be written: " + out->geterror());
+    std::string error;
+    auto out = imageBackend().createWriter(tmp.string(), error);
+    if (!out || !out->supportsMultiImage()) throw FileError(path, "no multi-part EXR writer available: " + error);
+    if (!out->openSubimages(tmp.string(), specs)) throw FileError(path, "cannot be written: " + out->error());
     for (std::size_t i = 0; i < layers.size(); ++i) {
-      if (i > 0 && !out->open(tmp.string(), specs[i], OIIO::ImageOutput::AppendSubimage))
-        throw FileError(path, "cannot be written: " + out->geterror());
-      if (!out->write_image(OIIO::TypeDesc::FLOAT, layers[i].image.pixels.data()))
-        throw FileError(path, "cannot be written: " + out->geterror());
+      if (i > 0 && !out->appendSubimage(tmp.string(), specs[i]))
+        throw FileError(path, "cannot be written: " + out->error());
+      if (!out->write(PixelType::Float, layers[i].image.pixels.data()))
+        throw FileError(path, "cannot be written: " + out->error());
     }
-    if (!out->close()) throw FileError(path, "cannot be written: " + out->geterror());
+    if (!out->close()) throw FileError(path, "cannot be written: " + out->error());
   });
 }
 
 std::vector<StackLayer> readImageStack(const fs::path& path) {
   auto in = openImageInput(path);
-  const int count = std::max(1, in->spec().get_int_attribute("oiio:subimages", 1));
+  const int count = in->header().subimages;
   std::vector<StackLayer> layers;
   for (int s = 0; s < count; ++s) {
-    if (!in->seek_subimage(s, 0)) throw FileError(path, "part " + std::to_string(s) + " cannot be read: " + in->geterror());
-    const OIIO::ImageSpec& spec = in->spec();
+    if (!in->seekSubimage(s)) throw FileError(path, "part " + std::to_string(s) + " cannot be read: " + in->error());
+    const image_backend::ImageHeader& spec = in->header();
     StackLayer layer;
-    layer.name = spec.get_string_attribute("name", spec.get_string_attribute("oiio:subimagename"));
-    for (const OIIO::ParamValue& p : spec.extra_attribs) {
-      const std::string name = p.name().string();
-      if (!isUserAttribute(name)) continue;
-      if (p.type() == OIIO::TypeInt) layer.attributes[name] = p.get_int();
-      else if (p.type() == OIIO::TypeFloat) layer.attributes[name] = p.get_float();
-      else if (p.type() == OIIO::TypeString) layer.attributes[name] = p.get_string();
-    }
+    layer.name = spec.name;
+    for (const auto& [name, value] : spec.attributes)
+      if (isUserAttribute(name)) layer.attributes[name] = value;
     layer.image = readCurrentSubimage(path, *in, s);
     layers.push_back(std::move(layer));
   }

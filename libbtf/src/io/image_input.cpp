@@ -190,17 +190,11 @@ void setImageSizeLimits(const ImageSizeLimits& limits) {
 
 ImageSizeLimits imageSizeLimits() { return {g_max_side.load(), g_max_pixels.load()}; }
 
-void decodeExrInCallingThreads() {
-  const char* options = std::getenv("OPENIMAGEIO_OPTIONS");
-  if (options && std::string_view(options).find("exr_threads") != std::string_view::npos) return;
-  OIIO::attribute("exr_threads", -1);
-}
-
-void requireImageSizeWithinLimits(const fs::path& path, const OIIO::ImageSpec& spec) {
+void requireImageSizeWithinLimits(const fs::path& path, const image_backend::ImageHeader& spec) {
   const ImageSizeLimits limits = imageSizeLimits();
   const auto size = [&] { return std::to_string(spec.width) + " x " + std::to_string(spec.height); };
-  if (spec.width <= 0 || spec.height <= 0 || spec.depth <= 0 || spec.nchannels <= 0)
-    throw FileError(path, "image has no pixels (" + size() + ", " + std::to_string(spec.nchannels) + " channels)");
+  if (spec.width <= 0 || spec.height <= 0 || spec.depth <= 0 || spec.channels <= 0)
+    throw FileError(path, "image has no pixels (" + size() + ", " + std::to_string(spec.channels) + " channels)");
   if (spec.width > limits.max_side || spec.height > limits.max_side)
     throw FileError(path, "header claims " + size() + " pixels, beyond the limit of " +
                               std::to_string(limits.max_side) + " per side (corrupt? see setImageSizeLimits)");
@@ -208,11 +202,11 @@ void requireImageSizeWithinLimits(const fs::path& path, const OIIO::ImageSpec& s
   if (pixels > limits.max_pixels)
     throw FileError(path, "header claims " + size() + " pixels, beyond the limit of " +
                               std::to_string(limits.max_pixels) + " pixels (corrupt? see setImageSizeLimits)");
-  if (spec.nchannels > 1024)
-    throw FileError(path, "header claims " + std::to_string(spec.nchannels) + " channels (corrupt?)");
+  if (spec.channels > 1024)
+    throw FileError(path, "header claims " + std::to_string(spec.channels) + " channels (corrupt?)");
 }
 
-std::unique_ptr<OIIO::ImageInput> openImageInput(const fs::path& path) {
+std::unique_ptr<image_backend::Reader> openImageInput(const fs::path& path) {
   requireReadableFile(path);
   std::error_code ec;
   if (fs::file_size(path, ec) == 0 && !ec) throw FileError(path, "empty file, expected an image");
@@ -225,41 +219,11 @@ std::unique_ptr<OIIO::ImageInput> openImageInput(const fs::path& path) {
   const std::string format = readerByMagic(path);
   if (format.empty())
     throw FileError(path, "is not an OpenEXR, PNG, JPEG, TIFF or Radiance HDR image (by its first bytes), the formats libbtf reads");
-  auto in = OIIO::ImageInput::create(format);
-  if (!in) throw FileError(path, "OpenImageIO has no " + format + " reader: " + OIIO::geterror());
-  OIIO::ImageSpec opened;
-  if (!in->open(path.string(), opened)) throw FileError(path, "cannot be read as an image (corrupt?): " + in->geterror());
-  requireImageSizeWithinLimits(path, in->spec());
+  std::string error;
+  auto in = imageBackend().openReader(format, path.string(), error);
+  if (!in) throw FileError(path, error);
+  requireImageSizeWithinLimits(path, in->header());
   return in;
-}
-
-bool readPixels(OIIO::ImageInput& in, int subimage, int channels, OIIO::TypeDesc format,
-                const std::function<void*()>& destination) {
-  const OIIO::ImageSpec& spec = in.spec();
-  if (spec.tile_width > 0 || spec.depth > 1) {
-    // Tiled: the first tile decodes before the image is allocated, then read_image reads it all.
-    if (spec.tile_width > 0) {
-      const std::size_t tile_values = std::size_t(spec.tile_width) * std::size_t(std::max(spec.tile_height, 1)) *
-                                      std::size_t(std::max(spec.tile_depth, 1)) * std::size_t(spec.nchannels);
-      std::vector<std::byte> tile(tile_values * format.size());
-      if (!in.read_tile(spec.x, spec.y, spec.z, format, tile.data())) return false;  // of the current subimage
-    }
-    return in.read_image(subimage, 0, 0, channels, format, destination());
-  }
-  const std::size_t value_bytes = format.size();
-  const std::size_t row_values = std::size_t(spec.width) * std::size_t(spec.nchannels);
-  std::vector<std::byte> row(row_values * value_bytes);
-  std::byte* out = nullptr;
-  for (int y = 0; y < spec.height; ++y) {
-    // read_scanline reads every channel; the first `channels` of each pixel are kept.
-    if (!in.read_scanline(spec.y + y, spec.z, format, row.data())) return false;
-    if (!out) out = static_cast<std::byte*>(destination());
-    for (int x = 0; x < spec.width; ++x)
-      std::memcpy(out + (std::size_t(y) * std::size_t(spec.width) + std::size_t(x)) * std::size_t(channels) * value_bytes,
-                  row.data() + std::size_t(x) * std::size_t(spec.nchannels) * value_bytes,
-                  std::size_t(channels) * value_bytes);
-  }
-  return true;
 }
 
 }  // namespace btf

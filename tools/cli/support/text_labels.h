@@ -1,4 +1,4 @@
-// Text labels on plot images, rendered by OpenImageIO with FreeType and Debian's DejaVu Sans
+// Text labels on plot images, rendered by libbtf (OpenImageIO with FreeType) and Debian's DejaVu Sans
 // (package fonts-dejavu-core). OpenImageIO 2.4 renders ASCII only, so labels spell Greek names.
 #pragma once
 

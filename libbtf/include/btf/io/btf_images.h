@@ -28,8 +28,6 @@
 #include <string_view>
 #include <vector>
 
-#include <OpenImageIO/typedesc.h>
-
 #include "btf/io/btf_data.h"
 
 namespace btf {
@@ -92,14 +90,19 @@ class BtfImageFolder final : public BtfSource {
  private:
   BtfImageFolder() = default;
   void readImageInto(int view, int light, std::vector<Rgb>& out) const;
-  BtfTransfer transferOf(const OIIO::TypeDesc& format) const;
+  // How an image's values are stored, as far as their transfer depends on it.
+  struct StoredType {
+    bool floating_point = false;
+    bool eight_bit = false;
+  };
+  BtfTransfer transferOf(StoredType stored) const;
 
   std::filesystem::path folder_;
   std::vector<std::filesystem::path> paths_;  // view * 81 + light
   BtfViewSet views_;
   float value_scale_ = 1.0f;
   std::optional<BtfTransfer> transfer_override_;  // btf.json's, if it has one
-  OIIO::TypeDesc first_format_;
+  StoredType first_type_;
   int width_ = 0, height_ = 0;
 };
 

@@ -1,4 +1,5 @@
-// Float images and their files (OpenImageIO behind the scenes; it stays out of this header).
+// Float images and their files (OpenImageIO behind the scenes, loaded on first use; it stays out of
+// this header).
 //
 // - EXR holds linear float data exactly (32-bit float channels).
 // - PNG holds 8-bit data: values are clamped to [0, 1] and quantized as they are, so the caller
@@ -13,7 +14,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -65,6 +68,12 @@ ImageSizeLimits imageSizeLimits();
 // do this on its own: a program that mostly reads BTF folders calls it once at start, as `btf`
 // does; one that reads large single EXRs keeps OpenEXR's pool.
 void decodeExrInCallingThreads();
+
+// A text's coverage (0..1, antialiased) as a one-channel image just large enough for it, rendered
+// with FreeType (through the same backend as the image files) in the named font at font_size
+// pixels; for the labels of charts. Nothing when the font cannot be loaded; Error when the text
+// cannot be rendered.
+std::optional<Image> renderTextMask(std::string_view text, int font_size, const std::string& font);
 
 // The sRGB transfer curves (IEC 61966-2-1): encoding a linear value in [0, 1] (clamped; 12.92 x
 // below 0.0031308, 1.055 x^(1/2.4) - 0.055 above) and decoding an encoded one in [0, 1] (clamped).
