@@ -27,8 +27,8 @@
 
 namespace {
 
-// The calibrated stand-in for a measured BTF (README, "A generator calibrated to real data") at
-// 16 x 16 texels: the print motif repeats every 8-24 texels, so texels have noisy near-twins.
+// The calibrated stand-in for a measured BTF (docs/design-notes.md#a-generator-calibrated-to-real-data)
+// at 16 x 16 texels: the print motif repeats every 8-24 texels, so texels have noisy near-twins.
 struct CameraPrint {
   std::unique_ptr<btf::synthetic::SyntheticBtf> print =
       btf::synthetic::makeSyntheticBtf(btf::synthetic::BtfPattern::Print, 16, 16, 1);

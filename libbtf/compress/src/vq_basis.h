@@ -12,7 +12,8 @@
 // of the codebook, as PCA codes the data, but per entry and only as deep as each entry needs.
 //
 // Used only with VqOptions::level1_cut: on clean data the coefficients code worse than the values
-// and the cut moves entries off the data (README), so by default entries stay value by value.
+// and the cut moves entries off the data (docs/design-notes.md#vq-level-1-basis-and-cut), so by
+// default entries stay value by value.
 // The basis is learned from the first view the compressor sees and written to the file in float32
 // ("level1/basis<r>"); the ring's section then holds coefficients instead of values. The codes a
 // lookup reads are the same 16-bit values as before (decoded once, on reading), so decoding speed

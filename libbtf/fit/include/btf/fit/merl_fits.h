@@ -1,5 +1,5 @@
-// Published analytic fits of the MERL materials (../shared/data/real/fits/, documented in
-// SOURCES.md there), read from their CSV tables and turned into Materials:
+// Published analytic fits of the MERL materials (../shared/data/real/fits/,
+// docs/design-notes.md#measured-data), read from their CSV tables and turned into Materials:
 //   sgd_bagher2012_merl.csv        Shifted Gamma Distribution (Bagher et al. 2012), 100 MERL names
 //   abc_low2012_merl.csv           ABC model (Löw et al. 2012), the same 100 names
 //   lafortune1_ngan2005_merl.csv   one-lobe Lafortune (Ngan et al. 2005): 86 of the MERL names and
