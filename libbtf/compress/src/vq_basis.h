@@ -1,8 +1,8 @@
 // Level-1 entries coded in a principal basis of their ring (private to src/compress/).
 //
 // A new level-1 entry is the unit luminance function of one ring of one texel: 6 to 24 values that,
-// on measured data, carry camera and JPEG noise at several percent. Stored value by value, every
-// entry costs its full noise (about 7 bits per value at epsilon 0.1) and zstd cannot shrink it.
+// on measured data, carry camera and JPEG noise. Stored value by value, every entry costs its full
+// noise in bits and zstd cannot shrink it.
 // Rotated into the principal basis of the ring's functions (the eigenvectors of their second-moment
 // matrix, strongest first), an entry's energy sits in its leading coefficients; the compressor then
 // keeps only as many leading coefficients as the tolerance needs (the dropped tail's energy stays

@@ -115,8 +115,8 @@ struct MerlFitComparison {
   double threshold = 0;
   bool disagree = false;  // spread > threshold
 };
-// Albedo by deterministic half-vector quadrature (integrateAlbedoHalfVector) of each available fit.
-// About 0.1 s per model.
+// Albedo by deterministic half-vector quadrature (integrateAlbedoHalfVector) of each available fit:
+// one quadrature per model, the cost of this call.
 MerlFitComparison compareMerlFits(const MerlFits& fits, std::string_view name, double threshold = 0.10,
                                   const std::vector<float>& theta_o_deg = {0.0f, 30.0f, 60.0f});
 
