@@ -1,5 +1,5 @@
 // How compressible a BTF is at a given tolerance, measured on the data itself rather than on any
-// one compressor: "where does it break" for every method (issue 5).
+// one compressor: "where does it break" for every method.
 //
 // Each texel is the vector of its luminances (Rgb::luminance) over D of the 6561 (view, light)
 // pairs, chosen at random by seed (a T x D matrix, T = texels). (Of a BTF holding only some views,
