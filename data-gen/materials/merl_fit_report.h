@@ -14,8 +14,8 @@
 namespace btf::datagen {
 
 // Fits disagree strongly when their mean-RGB albedos at 0/30/60 degrees differ by more than this
-// fraction of the largest (see compareMerlFits). At 10%, 93 of the 100 MERL materials would be
-// flagged, which tells a user nothing; at 30%, 49 are (at 50%, 18).
+// fraction of the largest (see compareMerlFits). A much tighter threshold would flag nearly all
+// MERL materials, which tells a user nothing.
 inline constexpr double kFitDisagreementThreshold = 0.30;
 
 // The tables from --fits-dir if given (an error if it lacks them), else from the folder configured

@@ -1,8 +1,9 @@
 // What a camera does to a BTF on its way into images: a gantry never registers its images to the
 // texel (each (view, light) image lands a fraction of a texel off), the sensor adds noise, and the
 // file stores 8-bit sRGB codes that clip at white. Measured BTFs carry all three; a synthetic BTF
-// without them is noise-free, so its texels have near-twins a measured one never has (README,
-// "A real measured slice"). CameraBtf applies them to any BtfSource, view by view.
+// without them is noise-free, so its texels have near-twins a measured one never has
+// (docs/design-notes.md#synthetic-btfs-and-the-camera). CameraBtf applies them to any BtfSource,
+// view by view.
 //
 // Per (view, light) image, in this order:
 //   1. registration: the image is resampled (bilinearly, wrapping at the borders as the periodic
@@ -37,9 +38,9 @@ struct CameraOptions {
 // that the brightest 1 % clip as in a measured sample's images (1 when that percentile is 0).
 float exposureWhite(const BtfSource& source);
 
-// The camera the print pattern is calibrated with against the measured WALLPAPER slice (README,
-// "A generator calibrated to real data"): registration error up to 0.2 texel, read noise 0.8 % and
-// shot noise 2 % of white, 8-bit sRGB codes, white by exposureWhite(source).
+// The camera the print pattern is calibrated with against the measured WALLPAPER slice
+// (docs/design-notes.md#a-generator-calibrated-to-real-data): registration error up to 0.2 texel,
+// read noise 0.8 % and shot noise 2 % of white, 8-bit sRGB codes, white by exposureWhite(source).
 CameraOptions measuredCameraOptions(const BtfSource& source, std::uint64_t seed);
 
 class CameraBtf final : public BtfSource {

@@ -1,5 +1,5 @@
 // BtfMaterial speed (single-threaded): eval straight from a VqBtf (bilinear and nearest texel) and
-// from the in-memory data, beside a one-lobe Lafortune eval in the same run (the target is
+// from the in-memory data, beside a one-lobe Lafortune eval in the same run (the project's target is
 // >= 2x Lafortune's rate), and sampling by twofold binary search (target >= 5 M samples/s).
 // The BTF: the 16 x 16-texel GGX pattern of the unit tests (tests/unit/btf_test_data.h), compressed
 // with levels = 3, epsilon = 0.02. Directions, uv and random numbers are drawn before timing.
@@ -87,7 +87,7 @@ void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFi
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
 // no interpolation, the random access that decompression-based renderers make. Its rate depends on
 // whether the tables it walks stay in cache, so it runs on the GGX pattern at 4 x 4 to 64 x 64
-// texels (argument), whose tables grow with it (counter table_MB; this machine's L2: 2 MB per core).
+// texels (argument), whose tables grow with it (counter table_MB, to compare with the L2 cache).
 struct DecodeFixture {
   std::shared_ptr<const btf::VqBtf> vq;
   std::vector<btf::BtfSampleIndex> samples;

@@ -41,7 +41,7 @@ PhotonSearch& structureOf(Scene& scene, const std::string& name) {
   return *s;
 }
 
-// Built once per size and kept: the 1 M photon set-up costs about a second per structure.
+// Built once per size and kept: the set-up of the largest sizes costs far more than a query.
 Scene& sceneOf(std::size_t photons) {
   static std::map<std::size_t, Scene> scenes;
   Scene& scene = scenes[photons];

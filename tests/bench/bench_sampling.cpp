@@ -1,7 +1,7 @@
 // Samples per second per core of the tabulated samplers (sampling/binned_sampler.h), on a
 // MERL-size TabulatedBrdf (a GGX tabulated into the MERL layout once) and on the analytic GGX.
 // Loops per sampler: "direction" = sampleDirection + pdf (the sampler's own cost, what the
-// issue's 20 M/s target is about), "direction_only" = sampleDirection alone (it returns the pdf
+// project's 20 M/s target is about), "direction_only" = sampleDirection alone (it returns the pdf
 // too, so a caller that takes it from there pays only this), "one_wo" = sample + pdf at a single
 // wo (tables cache-resident: the arithmetic alone), "pdf_only" = pdf of a pre-drawn
 // (wi, wo) pair (the MIS side of a renderer) and "full" = Material::sample + pdf (adds the eval()

@@ -1,4 +1,4 @@
-// The acceptance check: `btf info` on a btf-datagen output reports the preset's albedo
+// The acceptance check of the albedo: `btf info` on a btf-datagen output reports the preset's albedo
 // within 2% of the analytic value. The generated tables carry the default measurement effects
 // (noise, holes, grazing gap, falloff); the analytic value datagen reports includes the same tint
 // and falloff, while noise (mean 1) and holes (filled by interpolation) must not move the albedo.
@@ -17,10 +17,10 @@ namespace {
 constexpr double kRelativeTolerance = 0.02;
 
 // The near-mirror preset at normal incidence is the one justified exception. Two effects add up:
-// (1) linear interpolation across a GGX peak of alpha 0.02 overestimates it; a --clean chrome table
-// reads +0.8% (0 deg) to +1.0% (75 deg) high. (2) At theta_o = 0 the lobe covers only the first
-// ~10 theta_h rows along theta_d = theta_h, so the 3% per-cell noise averages over a few cells
-// only: over seeds 1-10 the 0-degree error ranged from +0.6% to +2.2%. 3% covers bias + noise.
+// (1) linear interpolation across a GGX peak of alpha 0.02 overestimates it, so even a --clean
+// chrome table reads high. (2) At theta_o = 0 the lobe covers only the first ~10 theta_h rows along
+// theta_d = theta_h, so the 3% per-cell noise averages over a few cells only and the 0-degree error
+// varies with the seed. 3% covers bias + noise.
 double toleranceFor(const std::string& preset, double theta_o_deg) {
   return preset == "chrome" && theta_o_deg == 0.0 ? 0.03 : kRelativeTolerance;
 }

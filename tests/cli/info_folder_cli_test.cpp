@@ -1,5 +1,5 @@
-// `btf info` on an image-folder BTF checks btf.json and every image's header: the mutation probe
-// of issue 16 found it exiting 0 on an empty EXR, a 10-byte one, one replaced by "{}" and a
+// `btf info` on an image-folder BTF checks btf.json and every image's header: a mutation probe
+// found it exiting 0 on an empty EXR, a 10-byte one, one replaced by "{}" and a
 // btf.json whose width was 2^63, true or "nan".
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 std::string rgl(const std::string& stem) { return (sharedDataDir() / "rgl_bsdf" / (stem + ".bsdf")).string(); }
 
-// Raw 8-bit RGB bytes of a one-texel BTF: 81 views x 81 lights x 3 (ARCHITECTURE.md's ratio_u8).
+// Raw 8-bit RGB bytes of a one-texel BTF: 81 views x 81 lights x 3 (ratio_u8, docs/design-notes.md#measures).
 constexpr double kOneTexelRawU8 = 81.0 * 81.0 * 3.0;
 
 std::vector<std::string> namesIn(const nlohmann::json& materials) {

@@ -78,7 +78,7 @@ AnalyticFit fitTableOf(const Material& truth, const AnalyticFitOptions& options)
   return fitAnalytic(tabulate(truth), options);
 }
 
-// Noiseless tables of known models: the fit finds the parameters within 5% (the target)
+// Noiseless tables of known models: the fit finds the parameters within 5% (the project's target)
 // and reproduces the table.
 BTF_SLOW_TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   const Rgb kd(0.3f, 0.2f, 0.1f), f0(0.04f, 0.05f, 0.06f);

@@ -199,8 +199,8 @@ struct GridDensity {
 }  // namespace
 
 // Regression: the harness integrated every cell by Gauss rules refined into quarters to a fixed
-// depth, which left errors near 0.5% in cells crossed by the jumps of a sharp piecewise-constant
-// density, and it rejected this correct sampler at 1e6 draws (p 3e-9, seed 1); a wrong sampler
+// depth, which left errors far above a hundredth of a draw in cells crossed by the jumps of a sharp
+// piecewise-constant density, and it rejected this correct sampler at 1e6 draws (seed 1); a wrong sampler
 // gets worse with more draws, a quadrature error does too, so the counts are checked directly.
 TEST(Chi2, IntegratesASharpPiecewiseConstantDensityExactlyAndAcceptsItsSampler) {
   const GridDensity grid;
@@ -216,7 +216,7 @@ TEST(Chi2, IntegratesASharpPiecewiseConstantDensityExactlyAndAcceptsItsSampler) 
       const double exact = double(options.sample_count) *
                            grid.cellProbability(z0, z1, double(col) / options.phi_bins, (col + 1.0) / options.phi_bins);
       const double computed = r.expected[row * options.phi_bins + col];
-      // Within 1e-5 of the count or a hundredth of a draw; the old integration missed by 0.5%.
+      // Within 1e-5 of the count or a hundredth of a draw; the old integration missed by far more.
       EXPECT_NEAR(computed, exact, std::max(1e-5 * exact, 0.01)) << "cell " << row << ", " << col;
       worst = std::max(worst, std::abs(computed - exact) / exact);
     }

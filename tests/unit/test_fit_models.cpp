@@ -177,7 +177,7 @@ TEST(FitModels, AlbedoAtMostOneUpTo60DegreesForEveryFit) {
 
 TEST(FitModels, SomePublishedSgdFitsExceedAlbedoOneAtGrazing) {
   // Documented, not hidden: the SGD fit of white-paint has rho_s = 4.1 in red, and its red albedo
-  // passes 1 at 75 deg (about 1.4; 2.3 at 85 deg). Fits of measured data are only checked where
+  // passes 1 at 75 deg and grows towards grazing. Fits of measured data are only checked where
   // the measurements were, and MERL has little grazing data.
   const auto material = makeMerlFitMaterial(fits(), "white-paint", FitModel::Sgd);
   EXPECT_LT(integrateAlbedoHalfVector(*material, glm::radians(30.0f)).r, 1.0f);

@@ -116,7 +116,8 @@ TEST(FuzzRegressions, PlyElementOfBillionsWithoutPropertiesIsRefused) {
 
 // fuzz_mesh: "element 4444...44vertex 3", an element name of 77 digits and a word. Assimp, which
 // read PLY then, took the count of an element it did not know from the start of its name: the
-// digits became billions of instances, which it allocated (a timeout, 11 GB). An element of any
+// digits became billions of instances, which it allocated (a timeout, and memory far past the
+// fuzzer's limit). An element of any
 // name is now read for its declared count, and one that is not the vertices or faces skipped.
 TEST(FuzzRegressions, PlyElementNameBeginningWithDigitsIsReadLikeAnyOther) {
   test::TempDir dir;
@@ -266,7 +267,7 @@ TEST(FuzzRegressions, RglWarpFarFromItsValuesGivesNoInfiniteWeight) {
 
 // fuzz_exr_stack: 21 and 22 bytes of WebP (named .exr) whose headers claim 12485 x 2053 and
 // 12485 x 5125 pixels. OpenImageIO fell back to its WebP reader: the first allocated and filled
-// 300 MB of floats before failing, the second decoded and premultiplied 64 megapixels, both far
+// the claimed image in floats before failing, the second decoded and premultiplied 64 megapixels, both far
 // past the 2 s limit under the sanitizers. Formats libbtf does not read are now refused by name,
 // and pixel memory is committed only once the first row has decoded.
 TEST(FuzzRegressions, WebpNamedExrIsRefusedByItsFormat) {

@@ -177,7 +177,7 @@ TEST_F(MerlIo, InfiniteEntryNamesIndexAndChannel) {
 }
 
 TEST_F(MerlIo, HugeFiniteEntryIsRefusedBeforeItOverflowsAFloat) {
-  // Issue 16's probe: 1e308 passed the finite check and printed max inf, mean inf.
+  // A mutation probe's case: 1e308 passed the finite check and printed max inf, mean inf.
   std::vector<double> values(3 * kN, 1.0);
   values[123] = 1e308;
   writeRaw(dir / "huge.binary", {90, 90, 180}, values);

@@ -139,8 +139,8 @@ BTF_STATISTICAL_TEST_P(HalfVectorRgl, ChiSquareAcceptsAndSampleAgreesWithPdf) {
 
 // A bin's half-vector tables are made at its central wo; directions reflected below the horizon
 // there but above it at a bin edge must keep mass, or queries near that edge draw them only by the
-// defensive share (weights hundreds of times the mean: 773x at 67.5 degrees on paper_white before
-// both edges were consulted). Just inside both sides of every bin edge up to 80 degrees (grazing
+// defensive share (weights hundreds of times the mean on paper_white before both edges were
+// consulted). Just inside both sides of every bin edge up to 80 degrees (grazing
 // views beyond it are limited by the bin width instead), 50,000 draws each: no weight f cos / pdf
 // above 100x the mean weight.
 TEST_P(HalfVectorRgl, NoRunawayWeightsNearBinEdges) {

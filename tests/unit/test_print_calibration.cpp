@@ -4,7 +4,7 @@
 // distance quantiles and the rank curve (compress/compressibility.h) must match within the stated
 // tolerance. The real statistics are computed here from the shared files, never written down.
 //
-// Tolerance (README, "A generator calibrated to real data"): p10, p25 and the median of the
+// Tolerance (docs/design-notes.md#a-generator-calibrated-to-real-data): p10, p25 and the median of the
 // nearest-texel distance within 30 % of the real slice's, the rank for rel_rmse 0.02, 0.05 and 0.10
 // within 35 %. Not matched, and not tested: the upper tail (p75, p90), which is heavier on the real
 // slice (deep shadows and creases the print's shallow emboss does not have).

@@ -109,7 +109,7 @@ std::vector<FurnaceCase> furnaceMaterials() {
 TEST(RenderValidation, WhiteFurnaceReturnsTheDirectionalAlbedoOfEveryMaterial) {
   for (const FurnaceCase& c : furnaceMaterials()) {
     for (const float theta_o : {0.0f, 40.0f, 70.0f}) {
-      // The reference: deterministic quadrature for isotropic materials (converged to ~0.1%),
+      // The reference: deterministic quadrature for isotropic materials (converged far below the tolerance),
       // Monte Carlo with 2 M samples (its standard error counted) for anisotropic ones.
       const float t = theta_o * kPi / 180.0f;
       Rgb reference, reference_error(0.0f);

@@ -120,7 +120,7 @@ BTF_STATISTICAL_TEST_P(SamplerCorrectness, ChiSquareAcceptsAndPdfIntegratesToOne
 
 TEST_P(SamplerCorrectness, SampleAndPdfAgreeOnEveryDraw) {
   // Incident tables draw a direction every time; half-vector tables lose the draws whose
-  // reflection falls below the horizon (up to 16% at the grazing view of these coarse tables, 8
+  // reflection falls below the horizon (a sizeable share at the grazing view of these coarse tables, 8
   // theta_o bins of 11 degrees: see binned_sampler.cpp, target()).
   const auto sampler = makeSampler();
   const bool half = sampler->parameterization() == btf::Parameterization::Half;

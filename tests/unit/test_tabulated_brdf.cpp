@@ -35,16 +35,16 @@ namespace {
 // Why these bounds: trilinear interpolation of a smooth function errs by about (1/8) spacing^2 |f''|
 // per axis. The lobes vary fastest in theta_h; for a lobe of width w there, f''/f ~ 1/w^2, and the
 // sqrt mapping makes the theta_h spacing at theta_h = w equal to pi sqrt(w pi/2) / 90 rad, so the
-// relative error scales as (spacing/w)^2 / 8 ~ 1/(90^2 w): interpolated bound = 6e-4 / w (about 3x
-// the largest measured constant, 2.6e-4 for Ward). Nearest lookup errs to first order,
-// ~(spacing / w) / 2 ~ 1/sqrt(w): nearest bound = 0.025 / sqrt(w) (about 2x the measured 0.013).
+// relative error scales as (spacing/w)^2 / 8 ~ 1/(90^2 w): interpolated bound = 6e-4 / w (a margin
+// over the largest constant the models reach). Nearest lookup errs to first order,
+// ~(spacing / w) / 2 ~ 1/sqrt(w): nearest bound = 0.025 / sqrt(w) (again with a margin).
 // Widths w in theta_h: alpha for GGX and Ward; sqrt(2/n)/2 for cos^n lobes about the mirror
 // direction (half the lobe's angular width, as theta_h moves half as fast as the mirror angle).
 // Lambert is constant: any error beyond float rounding would be a lookup bug.
 //
 // Beyond 80 degrees the last theta_d cell (89 to 90 degrees) cannot resolve grazing Fresnel and
 // masking, and cells below the horizon are unmeasured, so the rel_rmse over the full hemisphere is
-// dominated by a few grazing pairs (measured up to 7% for GGX alpha 0.1). It is reported and held
+// dominated by a few grazing pairs. It is reported and held
 // below full_bound; Ward's f grows as 1/sqrt(cos theta_o) towards the horizon, which no table
 // resolves, so it has no full-hemisphere bound.
 struct AnalyticCase {

@@ -332,7 +332,7 @@ TEST(VqBtf, RejectsInvalidOptionsAndData) {
 }
 
 TEST(VqBtf, ReaderRejectsNonsenseInTheHeader) {
-  // Issue 16's mutation probe: header JSON with correct CRCs but values of the wrong type or range
+  // A mutation probe: header JSON with correct CRCs but values of the wrong type or range
   // loaded with exit 0 (nlohmann converts booleans and floats without a word). Each is an error
   // naming the key now.
   btf::test::TempDir dir;

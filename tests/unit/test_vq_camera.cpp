@@ -27,8 +27,8 @@
 
 namespace {
 
-// The calibrated stand-in for a measured BTF (README, "A generator calibrated to real data") at
-// 16 x 16 texels: the print motif repeats every 8-24 texels, so texels have noisy near-twins.
+// The calibrated stand-in for a measured BTF (docs/design-notes.md#a-generator-calibrated-to-real-data)
+// at 16 x 16 texels: the print motif repeats every 8-24 texels, so texels have noisy near-twins.
 struct CameraPrint {
   std::unique_ptr<btf::synthetic::SyntheticBtf> print =
       btf::synthetic::makeSyntheticBtf(btf::synthetic::BtfPattern::Print, 16, 16, 1);
@@ -94,9 +94,8 @@ TEST(VqCamera, NoisyTexelsOfOnePrintShareLevelThreeEntriesWithinTheTolerance) {
   EXPECT_LT(entries[2], 256u / 2);
   EXPECT_GT(three.stats().ratio_u8, 1.3 * two.stats().ratio_u8);
   EXPECT_LE(added, btf::test::vqLuminanceBound(0.2f, 1));
-  // The colour: taking texels of the other ink (no chroma test at all) raised the RGB error by
-  // more than half on the 64 x 64 print at epsilon 0.3, chroma 0.1 (0.17 -> 0.27); the whole-texel
-  // test keeps it near level 2's.
+  // The colour: taking texels of the other ink (no chroma test at all) raises the RGB error well
+  // above level 2's on the print; the whole-texel test keeps it near level 2's.
   EXPECT_LT(rgb3, 1.25 * rgb2);
 }
 

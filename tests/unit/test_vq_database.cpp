@@ -80,8 +80,8 @@ TEST(VqDatabase, RepeatedMaterialsShareTheirCodebooks) {
   // made, so the database holds little more than one material alone. (Not exactly nothing more:
   // the second copy may reuse another entry within the tolerance than the first chose, and its
   // level-2 vectors, built from those, then differ a little; and approximate searches may miss.
-  // Both counts are of live entries (vq_prune.h): at epsilon 0.02 the second copy adds 11 % at
-  // level 2.)
+  // Both counts are of live entries (vq_prune.h): at epsilon 0.02 the second copy still adds
+  // level-2 entries.)
   const btf::BtfData& ggx = materials().ggx;
   btf::VqOptions options;
   options.epsilon = 0.02f;

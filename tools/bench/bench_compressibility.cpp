@@ -201,7 +201,7 @@ void printTables(const std::vector<PatternResult>& results) {
                   a.greedy_entries, a.greedy_rel_error, double(p.report.texels) / a.greedy_entries, a.rank,
                   a.rank_rel_error, a.ratio_u8_bound);
   if (!results.empty()) {
-    // The largest rank whose bound still reaches ratio_u8 1000 (issue 5's target) at this size.
+    // The largest rank whose bound still reaches ratio_u8 1000 (the project's target) at this size.
     const int texels = results.front().report.texels;
     int k = 0;
     while (rankRatioU8Bound(texels, k + 1) >= 1000) ++k;

@@ -50,8 +50,7 @@ struct Args {
   std::vector<int> levels{1, 2, 3};
   // The chromaticity tolerance follows epsilon (chroma_scale * epsilon, at least the smallest the
   // format takes): with a fixed one the chroma codebooks stop shrinking and the rate-distortion
-  // curve flattens at large epsilon (fabric 32 x 32, chroma 0.01: ratio_u8 5.8 at epsilon 0.3, 6.3 at
-  // 0.6). 0.5 gives the library's default pair at epsilon 0.02 (chroma 0.01).
+  // curve flattens at large epsilon. 0.5 gives the library's default pair at epsilon 0.02 (chroma 0.01).
   float chroma_scale = 0.5f;
   bool level1_cut = false;  // VqOptions::level1_cut for every VQ row
   bool quick = false;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates the pictures the README shows, from a Release build in build/ and the measured data
-# in ../shared/data/real (read there, never copied here).
+# Regenerates the pictures of tools/gallery/ that the docs show, from a Release build in build/ and
+# the measured data in ../shared/data/real (read there, never copied here).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 bin="$here/../../build/bin"

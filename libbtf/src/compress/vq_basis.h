@@ -1,8 +1,8 @@
 // Level-1 entries coded in a principal basis of their ring (private to src/compress/).
 //
 // A new level-1 entry is the unit luminance function of one ring of one texel: 6 to 24 values that,
-// on measured data, carry camera and JPEG noise at several percent. Stored value by value, every
-// entry costs its full noise (about 7 bits per value at epsilon 0.1) and zstd cannot shrink it.
+// on measured data, carry camera and JPEG noise. Stored value by value, every entry costs its full
+// noise in bits and zstd cannot shrink it.
 // Rotated into the principal basis of the ring's functions (the eigenvectors of their second-moment
 // matrix, strongest first), an entry's energy sits in its leading coefficients; the compressor then
 // keeps only as many leading coefficients as the tolerance needs (the dropped tail's energy stays
@@ -12,7 +12,8 @@
 // of the codebook, as PCA codes the data, but per entry and only as deep as each entry needs.
 //
 // Used only with VqOptions::level1_cut: on clean data the coefficients code worse than the values
-// and the cut moves entries off the data (README), so by default entries stay value by value.
+// and the cut moves entries off the data (docs/design-notes.md#vq-level-1-basis-and-cut), so by
+// default entries stay value by value.
 // The basis is learned from the first view the compressor sees and written to the file in float32
 // ("level1/basis<r>"); the ring's section then holds coefficients instead of values. The codes a
 // lookup reads are the same 16-bit values as before (decoded once, on reading), so decoding speed

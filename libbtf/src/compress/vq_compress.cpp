@@ -15,8 +15,8 @@
 // chunk order, never on the threads or on how the jobs interleave.
 // Cost. Snapshot searches below level 3 are approximate (at most kMaxVisits kd-tree nodes per
 // segment, codebook.h), so a search costs about the same whatever the codebook size, and compression time
-// grows about linearly with the texel count (on the synthetic BTFs, whose codebooks keep 15-90 % of
-// their vectors, exact searches grew about linearly with the codebook: quadratic in all). An
+// grows about linearly with the texel count (exact searches grow linearly with the codebook, which
+// keeps a large share of a synthetic BTF's vectors: quadratic in all). An
 // approximate search may miss a reusable entry, which costs an extra entry, never accuracy: every
 // entry it returns is verified by the rules below.
 //
@@ -35,7 +35,7 @@
 //   81 x 81 reconstruction through the level-2 entries' dot products, and on the texel's
 //   chromaticity as a whole (vq_btf.h). (The texel's mean chromaticity appended to the key, so
 //   that the 8 candidates are not texels of another ink, saved few level-3 entries on the printed
-//   BTF (README): left out.)
+//   BTF: left out, docs/design-notes.md#vq-level-3-search.)
 // Rings without light (all zero) skip the chromaticity check: their colour is never seen.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -66,8 +66,9 @@ namespace {
 
 constexpr std::uint32_t kNoChroma = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kCandidates = 8;
-// Level 3's derived entries (Compressor::nearestWithExceptions): the candidates examined. 64
-// within three times the radius gained under 1 % on the calibrated print (README).
+// Level 3's derived entries (Compressor::nearestWithExceptions): the candidates examined. More
+// candidates in a wider radius did not pay for their cost on the calibrated print
+// (docs/design-notes.md#vq-derived-level-3-entries).
 constexpr std::size_t kExceptionCandidates = 32;
 
 // The first of up to max_matches codebook entries within radius of query (nearest first) that
@@ -93,9 +94,10 @@ std::vector<std::int64_t> initialMatches(std::size_t count, Lit lit) {
 // Vectors per chunk: the sequential part scans up to this many new entries per unmatched vector,
 // the parallel part wants enough work per chunk to keep the threads busy.
 constexpr std::size_t kChunk = 128;
-// Node visits per kd-tree segment in snapshot searches (codebook.h). On the synthetic fabric at
-// 64 x 64 texels, 16 rather than unlimited cost 1-2 % more entries and made the chroma searches
-// ~3x faster; 8 would save another ~15 % of search time for another ~0.5 % of entries.
+// Node visits per kd-tree segment in snapshot searches (codebook.h). A bound trades a few extra
+// entries (a missed reuse costs an entry, never accuracy) for searches whose cost does not grow with
+// the codebook; a tighter one saves little more search time for more entries. `btf bench
+// compression` measures entries and time.
 constexpr int kMaxVisits = 16;
 
 template <class F>
@@ -740,10 +742,10 @@ class Compressor {
           for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v], precision_.scale_shift);
           return addLevel3Entry(&view_index_[t * V], rel);
         },
-        // Exact: the bounded search missed reusable texels on the calibrated print (README). Its
-        // cost grows as texels x entries, quadratic where the bounded one is linear, but at
-        // 256 x 256 texels it adds little to the whole compression. Far larger BTFs would want a
-        // bound of a few hundred visits.
+        // Exact: the bounded search missed reusable texels on the calibrated print
+        // (docs/design-notes.md#vq-level-3-search). Its cost grows as texels x entries, quadratic
+        // where the bounded one is linear, but at the sizes of measured BTFs it is a small part of
+        // the whole compression. Far larger BTFs would want a bound of a few hundred visits.
         0);
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);

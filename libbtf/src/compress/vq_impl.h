@@ -59,7 +59,7 @@ inline float decodeVqEntryValue(std::uint16_t q) { return float(q) * (1.0f / 655
 // sqrt(n) step / 2 (n values, at most the largest ring's). The byte-planar sections (vq_io.cpp) then hold zero or
 // near-constant low planes, which zstd stores in almost nothing. Decoders read the codes as
 // before: the precision is the encoder's choice, not part of the format. A sixteenth of the
-// tolerance was the knee of the trade (README, "stored precision").
+// tolerance is the knee of the trade between bytes and error (docs/design-notes.md#vq-stored-precision).
 inline constexpr double kVqQuantizationShare = 1.0 / 16.0;
 struct VqPrecision {
   int scale_shift = 0;
@@ -78,8 +78,8 @@ inline VqPrecision vqPrecisionFor(float epsilon) {
 
 // Level 3's derived entries (l3_parent below): the largest share of a texel's views that may be
 // exceptions to the entry it nearly matches. Every exception reuses an entry at the tolerance where
-// a whole new entry would have been exact, so more of them buy bytes with error: on the calibrated
-// print a tenth did best at equal error of the shares tried (README).
+// a whole new entry would have been exact, so more of them buy bytes with error: a tenth is the
+// share chosen at equal error on the calibrated print (docs/design-notes.md#vq-derived-level-3-entries).
 inline constexpr double kVqMaxExceptionShare = 0.1;
 
 // Chromaticity grid step: a quarter of the tolerance, so that quantizing a new entry costs at most
@@ -126,8 +126,8 @@ struct VqBtf::Impl {
   // {index, float scale} records rather than parallel arrays; level 3's in 4 bytes where they fit,
   // below), and the level-1 values and chroma
   // stay in their stored 16 bits, so that the tables a lookup touches are as small as they can be
-  // (bench_btf.cpp, the 16 x 16 GGX pattern: 4.9 -> 2.2 MB, the size of an L2 cache; its stream
-  // of lookups 68.8 -> 98.9 M samples/s).
+  // and random lookups run at the speed of the cache they fit (docs/design-notes.md#vq-decoding-at-random;
+  // bench_btf.cpp's BM_BtfDecodeVq* report the tables' size and the lookup rate).
   struct ScaledIndex {
     std::uint32_t entry;
     float scale;

@@ -257,9 +257,9 @@ void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std:
   if (m.options.levels == 1) addVqSection(sections, SectionType::IndexStream, prefix + "top/chroma", packPlanar(m.top_chroma));
 }
 
-// zstd's strongest levels cost seconds per MB, paid twice (compressVq's size, then write()): level
-// 19 only for small payloads (BRDFs, small or well-compressed BTFs), else level 9, which was ~13x
-// faster and 6 % larger on a 32 x 32 synthetic BTF (10 MB stored; level 6: 7 %, level 3: 10 %).
+// zstd's strongest levels are far slower per byte than its middle ones, paid twice (compressVq's
+// size, then write()): level 19 only for small payloads (BRDFs, small or well-compressed BTFs),
+// else level 9, much faster for files only slightly larger, where lower levels give up more size.
 // One level for all larger payloads also keeps ratios comparable across sizes.
 int vqZstdLevelFor(const std::vector<ContainerSection>& sections) {
   std::size_t raw = 0;

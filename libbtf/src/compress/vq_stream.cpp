@@ -5,8 +5,8 @@
 // following one another, and the last step's arithmetic runs on arrays in vector lanes. The
 // arithmetic is value()'s (Impl::sample), in its order, so the results are its own bit for bit.
 // An earlier version ran the chain in AVX2 gathers over parallel arrays; these records (one cache
-// line per step) with plain loads decode faster (BM_BtfDecodeVqStream/16: 68.8 -> 98.9 M samples/s,
-// README) and need no CPU dispatch.
+// line per step) with plain loads decode faster (BM_BtfDecodeVqStream measures it;
+// docs/design-notes.md#vq-decoding-at-random) and need no CPU dispatch.
 #include <algorithm>
 #include <cstdint>
 #include <type_traits>
@@ -23,8 +23,8 @@ namespace {
 // one latency per step, shared by its samples. Tables within the L2 cache: 16, few enough that
 // the group's state stays in registers and L1. Tables past it (prefetching): a latency is then an
 // L3 or DRAM one, and only many more loads in flight amortize it: 128 decoded a full-size
-// calibrated BTF faster than 16 or 64 did (README, "Decoding the ε 0.2 file at random"), and no
-// slower at a few MB (BM_BtfDecodeVqStream).
+// calibrated BTF faster than 16 or 64 did, and no slower on tables just past the L2 cache (`btf
+// bench decode` and BM_BtfDecodeVqStream measure both; docs/design-notes.md#vq-decoding-at-random).
 constexpr std::size_t kCachedGroup = 16;
 constexpr std::size_t kPrefetchedGroup = 128;
 
@@ -87,8 +87,8 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
     cr[i] = m.chroma_flat[chroma_at[i]];
     cb[i] = m.chroma_flat[chroma_at[i] + 1];
   }
-  // Into arrays first: stored straight into the Rgb output the loop would not vectorize (measured
-  // 110 rather than 135 M samples/s at 0.4 MB of tables).
+  // Into arrays first: stored straight into the Rgb output the loop would not vectorize, which
+  // slows the stream on tables within the cache (BM_BtfDecodeVqStream).
   float r[kGroup], g[kGroup], b[kGroup];
   for (std::size_t i = 0; i < n; ++i) {
     const Rgb c = VqBtf::Impl::decodeSample(scale[i], value[i], cr[i], cb[i], m.chroma_step);

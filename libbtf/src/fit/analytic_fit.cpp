@@ -29,8 +29,9 @@ constexpr int kThetaDiffStride = 3;
 constexpr int kPhiDiffStride = 6;
 constexpr double kRobustScale = 0.1;  // SoftLOneLoss scale, in units of the log residual
 // The rel_rmse measures (and the linear objective, which minimizes them) count directions within
-// 80 degrees of the normal, as the README's tabulation errors: tabulated RGL files reach 6e5 1/sr
-// in a few cells at grazing angles, which would otherwise be the whole measure.
+// 80 degrees of the normal, as the tabulation errors do (analytic_fit.h, tableRelRmse): tabulated
+// RGL files hold outliers in a few cells at grazing angles, which would otherwise be the whole
+// measure.
 const float kCos80 = std::cos(80.0f * float(fit::kFitPi) / 180.0f);
 
 FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {

@@ -115,7 +115,7 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 
 RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {
   // Angles through fastAtan2Turns as in halfVectorUnit: every query sets wo up, and std::atan2
-  // took a tenth of an eval here.
+  // here is a noticeable share of an eval.
   const float theta_o = kTwoPi * fastAtan2Turns(std::hypot(wo.x, wo.y), wo.z);
   const float phi_o_turns = fastAtan2Turns(wo.y, wo.x), phi_o = kTwoPi * phi_o_turns;
   const float params[1] = {theta_o};
@@ -215,7 +215,7 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
   // The pdf and the weight come from wi through the inverse maps, as pdf() and eval() compute
   // them, so that sample().pdf == pdf(wi, wo) exactly. The forward path's own density differs from
   // it by float round-off, except near the pole, where m's few significant bits after the
-  // reflection made the two disagree by up to 1e7x (|u| < 1e-5 at grazing wo).
+  // reflection make the two disagree by orders of magnitude (|u| < 1e-5 at grazing wo).
   const InverseMap r = mapBack(wi, wo, o, &luminance);
   if (!(r.pdf > 0.0f)) return std::nullopt;  // the edge of the support
   const Rgb weight = reflectanceTimesCos(r.s, r.u_m, o) / r.pdf;

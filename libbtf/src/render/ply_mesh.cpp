@@ -2,9 +2,9 @@
 
 // Read by hand: the one PLY reader in Debian 12 outside large geometry libraries (CGAL, Open3D,
 // PCL, VTK) is Assimp's, and under fuzz_mesh it looped for ever, read past the data, aborted,
-// allocated gigabytes and wrote past a heap block (README: fuzzing). PLY is a short format: a
-// header of elements and their properties, then the instances of each element in order, as words
-// or as binary scalars.
+// allocated without bound and wrote past a heap block (docs/design-notes.md#readers-under-fuzzing).
+// PLY is a short format: a header of elements and their properties, then the instances of each
+// element in order, as words or as binary scalars.
 
 #include <algorithm>
 #include <charconv>

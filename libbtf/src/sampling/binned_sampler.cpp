@@ -199,7 +199,7 @@ float BinnedSampler::target(std::size_t bin, glm::vec2 st) const {
     // Directions whose reflection is below the horizon for the bin's central wo may be above it
     // for other wo of the bin, and cells on the horizon are partly above it: without mass there,
     // a query would draw such directions only by the defensive share, with weights hundreds of
-    // times the mean (seen at theta_o = 0, 61.8 and 80 degrees on RGL files). So a point below the
+    // times the mean (at several theta_o on RGL files). So a point below the
     // horizon takes f at whichever of the bin's theta_o edges reflects it highest (the lower edge
     // for half vectors near the plane of wo, the upper one for many far out of it; wi.z is close
     // to linear in theta_o across a bin, so the edges bound it), and a point still just below it

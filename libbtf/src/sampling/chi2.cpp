@@ -38,8 +38,9 @@ struct ChunkResult {
 // tabulated samplers, whose jumps lie on lines of constant theta or phi (grid rows in cos(theta),
 // columns in phi, rotated about the normal). A jump inside a rectangle costs a Gauss rule an error
 // proportional to the rectangle's width, so refining every rectangle into quarters to a fixed depth
-// left 0.5% errors in the sharpest cells of a near-mirror table (rejecting correct samplers ever
-// more surely as draws grew). Each rectangle therefore also probes the pdf next to its borders and
+// left errors far above the tolerance in the sharpest cells of a near-mirror table (rejecting
+// correct samplers ever more surely as draws grew). Each rectangle therefore also probes the pdf
+// next to its borders and
 // records in which directions it varies: a rectangle that is constant is exact as it is, one that
 // varies along theta only (a jump line of constant theta) is halved along theta only, and so on.
 // A jump line is then followed by a bisection that costs two rectangles per level instead of four

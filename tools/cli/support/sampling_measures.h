@@ -1,4 +1,4 @@
-// The measures of `btf bench sampling` (names as in ARCHITECTURE.md, Measures):
+// The measures of `btf bench sampling` (names as in docs/design-notes.md#measures):
 // - samples_per_s: single-thread draws per second of a direction with its pdf (drawDirection).
 // - the fixed estimate: reflected radiance L(wo) = integral of f(wi, wo) cos(theta_i) E(wi) dwi,
 //   of the material lit by the smooth sky-like environment E below, by N samples of sample()

@@ -29,7 +29,7 @@ struct CompressArgs {
   bool compare_alone = false;
 };
 
-// ARCHITECTURE.md: ratio_u8 counts 3 bytes per RGB entry of the raw data, ratio_f32 12 bytes.
+// docs/design-notes.md#measures: ratio_u8 counts 3 bytes per RGB entry of the raw data, ratio_f32 12 bytes.
 double rawBytes(const BtfSource& s, double bytes_per_entry) { return double(s.entryCount()) * bytes_per_entry; }
 
 // The error of a compressed material against its input, decoded from the file just written so that

@@ -136,7 +136,7 @@ void runInfo(const InfoOptions& o) {
 
   // The lookups answer different questions on near-mirror tables: interpolation follows a peak
   // between samples, truncation (MERL's own reader) gives each sample's value to the whole cell
-  // above it; the README's "Real measured data" section gives the size of the difference.
+  // above it; docs/results.md gives the size of the difference on real measured data.
   const TabulatedBrdf brdf(table, o.lookup);
   const char* lookup_name = tableLookupName(o.lookup);
   const nlohmann::json albedo = albedoJson(brdf);

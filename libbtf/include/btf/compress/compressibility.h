@@ -1,5 +1,5 @@
 // How compressible a BTF is at a given tolerance, measured on the data itself rather than on any
-// one compressor: "where does it break" for every method (issue 5).
+// one compressor: "where does it break" for every method.
 //
 // Each texel is the vector of its luminances (Rgb::luminance) over D of the 6561 (view, light)
 // pairs, chosen at random by seed (a T x D matrix, T = texels). (Of a BTF holding only some views,
@@ -14,8 +14,7 @@
 //    only). If this median is far above epsilon, no texel can reuse another at epsilon.
 //    With D < 6561 the distances are estimates over a sample of directions, and the minimum over
 //    all neighbours picks the ones the sample happens to underestimate: d is biased low (optimistic),
-//    the more so the smaller D (measured on the synthetic patterns at 32 x 32 texels: all 6561
-//    directions raise the median by 0.02 to 0.15 over the default 1024).
+//    the more so the smaller D (`btf bench compressibility --directions 0` measures with all 6561).
 //
 // 2. Greedy one-pass texel codebook, per epsilon: texels in row-major order; a texel reuses the
 //    best earlier *entry* (smallest d) if d <= epsilon, else becomes an entry. Entries and the
@@ -38,14 +37,14 @@
 //        subset has, in expectation, the relative tail energy of the full matrix's best rank-k
 //        space *or less* (the best rank-k space of the subset fits the subset at least as well),
 //        and the rank of a T x D matrix can never exceed D, so k is biased low, the more so the
-//        smaller D is relative to k (fabric, 32 x 32 texels, epsilon 0.02: k = 683 on 1024
-//        directions, 961 on all 6561);
+//        smaller D is relative to k;
 //      - no mean row, quantization error of float16, or headers are counted.
 //
 // Cost: O(T^2 D) brute force (all pairs, TBB-parallel over fixed blocks of rows, candidates ranked
 // in float, the chosen neighbour or entry measured exactly in double), plus one symmetric
-// eigen-decomposition of size min(T, D). Fine up to 64 x 64 texels (seconds) and usable to 128 x 128
-// (kMaxCompressibilityTexels). Memory: T x D floats plus a block of rows against all texels.
+// eigen-decomposition of size min(T, D). Fine up to 64 x 64 texels and usable to 128 x 128
+// (kMaxCompressibilityTexels), where the quadratic cost dominates. Memory: T x D floats plus a block
+// of rows against all texels.
 // Views are streamed with loadView one at a time, in order.
 //
 // Deterministic: the same source, seed and options give the same report for any thread count

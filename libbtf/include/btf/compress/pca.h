@@ -1,5 +1,5 @@
 // Per-view PCA of a BTF: the baseline that the multi-level VQ compressor is charted against
-// ("PCA at equal storage", issue 5), in the style of the per-view factorization of measured BTFs
+// ("PCA at equal storage"), in the style of the per-view factorization of measured BTFs
 // of Sattler, Sarlette & Klein (2003).
 //
 // For each of the 81 views, the matrix texels x (81 lights x 3 channels) = T x 243 is approximated

@@ -84,12 +84,14 @@ struct VqOptions {
   // Code level-1 entries in a principal basis of their ring learned from the first view, each cut
   // to the leading coefficients its tolerance needs (src/compress/vq_basis.h): on noisy measured
   // data the dropped tail is mostly noise and files shrink at equal error; on clean data the cut
-  // moves entries off the data and the coefficients code worse than the values (README). Off:
+  // moves entries off the data and the coefficients code worse than the values
+  // (docs/design-notes.md#vq-level-1-basis-and-cut). Off:
   // entries are stored value by value, as files were before.
   bool level1_cut = false;
   // Level 3's derived entries (above): a texel that nearly matches an entry takes it with its own
   // codes in a few views. Smaller files at equal error on measured data, with more level-3 entries
-  // in the decoded tables (README). Off: every level-3 entry is matched or whole, as files were
+  // in the decoded tables (docs/design-notes.md#vq-derived-level-3-entries). Off: every level-3
+  // entry is matched or whole, as files were
   // before.
   bool level3_exceptions = true;
 };
@@ -98,7 +100,7 @@ struct VqStats {
   std::vector<std::size_t> codebook_entries;  // per level
   std::uint64_t compressed_bytes = 0;         // payload as stored in .btfz (after zstd)
   double seconds = 0;                         // compression wall time
-  double ratio_u8 = 0, ratio_f32 = 0;         // ARCHITECTURE.md measures
+  double ratio_u8 = 0, ratio_f32 = 0;         // docs/design-notes.md#measures
 };
 
 class VqBtf final : public BtfSource, public BtfLookup {

@@ -46,7 +46,7 @@ class VqDatabase {
   const VqOptions& options() const { return materials_.front().options(); }
   // Entries of the shared codebooks: level 1 (rings 1..5) and, with levels >= 2, level 2.
   std::vector<std::size_t> sharedEntries() const;
-  // Raw size of all materials as 8-bit RGB (ARCHITECTURE.md's ratio_u8 numerator).
+  // Raw size of all materials as 8-bit RGB (the numerator of ratio_u8, docs/design-notes.md#measures).
   double rawBytesU8() const;
 
   // Bytes the .btfz file holds (as written or read, else as the writer would make it).

@@ -120,7 +120,7 @@ AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const Analyti
 // directions both lie within 80 degrees of the normal (grazing cells of tabulated measurements
 // hold outliers of 1e5 1/sr that would be the whole measure), all channels together:
 //   sqrt(sum (cos_i (f_model - f_table))^2) / sqrt(sum (cos_i f_table)^2).
-// The measure of `btf fit` and of the README's comparison with the published fits.
+// The measure of `btf fit` and of the comparison with the published fits (docs/fit.md).
 double tableRelRmse(const Material& model, const MerlTable& table);
 // The same measure between two tables, cell by cell (a compressed table against its original).
 // Comparing through a lookup would not do: the cells of theta_d = 0 all stand for one direction

@@ -1,5 +1,5 @@
-// Published analytic fits of the MERL materials (../shared/data/real/fits/, documented in
-// SOURCES.md there), read from their CSV tables and turned into Materials:
+// Published analytic fits of the MERL materials (../shared/data/real/fits/,
+// docs/design-notes.md#measured-data), read from their CSV tables and turned into Materials:
 //   sgd_bagher2012_merl.csv        Shifted Gamma Distribution (Bagher et al. 2012), 100 MERL names
 //   abc_low2012_merl.csv           ABC model (Löw et al. 2012), the same 100 names
 //   lafortune1_ngan2005_merl.csv   one-lobe Lafortune (Ngan et al. 2005): 86 of the MERL names and
@@ -115,8 +115,8 @@ struct MerlFitComparison {
   double threshold = 0;
   bool disagree = false;  // spread > threshold
 };
-// Albedo by deterministic half-vector quadrature (integrateAlbedoHalfVector) of each available fit.
-// About 0.1 s per model.
+// Albedo by deterministic half-vector quadrature (integrateAlbedoHalfVector) of each available fit:
+// one quadrature per model, the cost of this call.
 MerlFitComparison compareMerlFits(const MerlFits& fits, std::string_view name, double threshold = 0.10,
                                   const std::vector<float>& theta_o_deg = {0.0f, 30.0f, 60.0f});
 

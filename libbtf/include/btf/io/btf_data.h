@@ -119,7 +119,7 @@ inline std::size_t BtfData::slotOf(int view) const {
   return std::size_t(views_.slot(view));
 }
 
-// Errors of one BTF against a reference over all entries and channels (names as ARCHITECTURE.md):
+// Errors of one BTF against a reference over all entries and channels (docs/design-notes.md#measures):
 // rel_rmse = RMSE / RMS of the reference; psnr_db = 20 log10(max of the reference / RMSE).
 // Over the reference's views; throws btf::Error if the sizes differ, the test lacks one of those
 // views, or the reference is all zero.

@@ -1,4 +1,4 @@
-// Image-folder BTFs (the layout of the Bonn UBO2003 data, ARCHITECTURE.md): one image per
+// Image-folder BTFs (the layout of the Bonn UBO2003 data, docs/formats.md): one image per
 // (view, light) pair over the 81-direction set (btf_directions.h), named by its four angles in
 // whole degrees, e.g. `tv030_pv060_tl045_pl120.png`. Pixel (x, y) of every image is texel (x, y).
 //

@@ -1,4 +1,4 @@
-// Two measures of a BTF's error beyond rel_rmse (ARCHITECTURE.md, "Measures"): how different a
+// Two measures of a BTF's error beyond rel_rmse (docs/design-notes.md#measures): how different a
 // compressed BTF *looks* from its reference (mean SSIM over its images), and how much error the
 // data carries anyway (its own measurement noise), below which a smaller compression error
 // buys nothing.

@@ -1,4 +1,4 @@
-// The .btfz container: a versioned file of typed, named, checksummed sections (ARCHITECTURE.md).
+// The .btfz container: a versioned file of typed, named, checksummed sections (docs/formats.md).
 //
 // Layout, all integers little-endian:
 //   magic "BTFZ\r\n\x1a\n"  (8 bytes: catches text-mode conversion and 7-bit damage, as PNG's does)

@@ -1,6 +1,6 @@
 // ABC microfacet model (Löw, Kronander, Ynnerman, Unger, "BRDF models for accurate and efficient
 // rendering of glossy surfaces", ACM TOG 2012), evaluated exactly as dj_brdf evaluates the
-// published MERL fits (see ../shared/data/real/SOURCES.md), with h = normalize(wi + wo):
+// published MERL fits (docs/design-notes.md#measured-data), with h = normalize(wi + wo):
 //   f = kd / pi + F(cos_d) D(h) G / (pi cos_i cos_o)
 //   D = A / (1 + B (1 - cos theta_h))^C          (A per channel; B, C shared)
 //   G = min(1, 2 cos_h cos_i / (h.wi), 2 cos_h cos_o / (h.wo))

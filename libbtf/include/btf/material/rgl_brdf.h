@@ -87,7 +87,7 @@ class RglBrdf final : public Material {
   // pdf and sample all go through it, so that they agree exactly.
   // m's unit coordinates: theta_m through a square root, phi_m relative to wo's; sin_theta_m is
   // |m.xy|, which the caller also needs for the Jacobian. The angles come from fastAtan2Turns, not
-  // std::atan2, which took a quarter of an eval (perf).
+  // std::atan2, which is a large share of an eval (`btf bench` measures eval speed).
   static glm::vec2 halfVectorUnit(const glm::vec3& m, float sin_theta_m, const Outgoing& o);
   struct InverseMap {
     glm::vec2 s{0.0f}, u_m{0.0f};

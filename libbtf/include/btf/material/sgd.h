@@ -1,6 +1,6 @@
 // Shifted Gamma Distribution microfacet model (Bagher, Soler, Holzschuch, "Accurate fitting of
 // measured reflectances using a Shifted Gamma micro-facet distribution", EGSR 2012), evaluated
-// exactly as dj_brdf evaluates the published MERL fits (see ../shared/data/real/SOURCES.md), with
+// exactly as dj_brdf evaluates the published MERL fits (docs/design-notes.md#measured-data), with
 // i = wi, o = wo, h = normalize(i + o), every parameter per RGB channel:
 //   f = (rho_d + rho_s F D G / (cos_i cos_o)) / pi
 //   D = kap exp(-(alpha + tan^2 theta_h / alpha)) / (pi (alpha + tan^2 theta_h / alpha)^p cos^4 theta_h)

@@ -1,6 +1,6 @@
 // A Material over a MERL-layout table of an isotropic BRDF.
 //
-// Policies (documented in the README as well):
+// Policies (documented in docs/formats.md as well):
 // - Below the horizon (wi.z <= 0 or wo.z <= 0): eval returns 0.
 // - Table samples sit at integer table coordinates (MerlTable::thetaHalfOf etc.). Nearest lookup
 //   rounds the continuous coordinates to the closest sample; Truncated lookup is MERL's own reader

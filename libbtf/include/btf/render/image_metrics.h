@@ -1,5 +1,5 @@
 // Comparing a rendered image with a reference: the measures of the renderer literature, under the
-// project's names (ARCHITECTURE.md, "Measures"), and a heat map of where the two differ.
+// project's names (docs/design-notes.md#measures), and a heat map of where the two differ.
 //
 // Both images are compared over their colour channels: the first 3 of an image with 3 or more
 // (a 4th channel, alpha, is ignored), or the single grey channel of an image with 1 or 2 (grey,

@@ -83,9 +83,9 @@ struct SamplerOptions {
   float defensive_fraction = 1e-3f;
   // DP-CDF: tolerance on every 1D CDF (0 keeps all but collinear nodes; >= 1 keeps endpoints only).
   float epsilon = 1e-3f;
-  // Fewest by default: the same tolerance with ~15% fewer vertices than Douglas-Peucker's
-  // splitting on MERL-size tables (bytes / full CDF 0.084 vs 0.100 at epsilon 3e-3), for a
-  // construction cost that is small beside the tabulation.
+  // Fewest by default: the same tolerance with fewer vertices than Douglas-Peucker's splitting
+  // (`btf bench sampling` reports bytes / full CDF), for a construction cost that is small
+  // beside the tabulation.
   CdfReduction reduction = CdfReduction::Fewest;
   // Quadtree: subdivide while max > threshold * mean over a cell's probes and depth < max_depth;
   // every bin is split to min_depth first; probes per cell = (quadtree_probes + 1)^2.
