@@ -1,0 +1,272 @@
+#!/usr/bin/python3
+"""Write docs/results.md from the output folders of `btf bench` runs.
+
+Usage:
+    /usr/bin/python3 tools/results/make_results_page.py RUN_DIR [-o docs/results.md]
+
+RUN_DIR is searched recursively for the files the benches write:
+
+    sampling.csv                    btf bench sampling -o DIR
+    compression.csv                 btf bench compression -o DIR
+    brdf_compression.csv            btf bench compression -o DIR (unless --no-brdfs)
+    compressibility.csv             btf bench compressibility -o DIR
+    fits.csv                        btf bench fits -o DIR
+    samplers.csv, summary.txt       btf bench render -o DIR
+    decode*.json                    btf bench decode FILE --json > DIR/decode.json
+
+and, when tools/results/run_benches.sh made the folder, commands.txt (the commands it ran) and
+meta.json (date and commit of the run). Any other CSV found is tabulated whole. Nothing on the
+page is typed by hand: every figure comes from those files, and the page says which commands
+wrote them, on which commit and machine. Standard library only (Debian's /usr/bin/python3).
+"""
+
+import argparse
+import csv
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+# Per known file: title, the command that writes it, and the columns worth a table (those present
+# are shown, in this order; a file without any of them is shown whole).
+KNOWN = {
+    "sampling.csv": (
+        "Sampling: samplers × materials",
+        "btf bench sampling",
+        ["material", "theta_o_deg", "sampler", "parameterization", "parameter", "bytes", "full_cdf_bytes",
+         "samples_per_s", "stream_samples_per_s", "chi2_p", "fcos_rel_variance", "efficiency_vs_own",
+         "stream_efficiency_vs_own", "acceptance_rate"],
+    ),
+    "compression.csv": (
+        "Compression: VQ against PCA",
+        "btf bench compression",
+        ["method", "material", "texels", "epsilon", "levels", "components", "bytes", "ratio_u8", "rel_rmse",
+         "psnr_db", "mean_ssim", "rel_rmse_display", "noise_rel_rmse", "compression_s", "evals_per_s"],
+    ),
+    "brdf_compression.csv": (
+        "Compression: BRDFs as one-texel .btfz",
+        "btf bench compression",
+        ["material", "btfz_bytes", "source_bytes", "rel_rmse"],
+    ),
+    "compressibility.csv": (
+        "Compressibility: how far the data compresses at all",
+        "btf bench compressibility",
+        ["pattern", "size", "texels", "directions", "epsilon", "nn_p10", "nn_p50", "nn_p90", "greedy_entries",
+         "reuse_factor", "rank", "ratio_u8_bound", "seconds"],
+    ),
+    "fits.csv": (
+        "Fits: ours beside the published MERL fits",
+        "btf bench fits",
+        ["material", "reference", "model", "ours", "rel_rmse", "converged", "seconds"],
+    ),
+    "samplers.csv": (
+        "Rendering: samplers at equal time",
+        "btf bench render",
+        ["sampler", "spp", "seconds", "relmse", "rel_rmse", "efficiency"],
+    ),
+}
+ORDER = ["sampling.csv", "compression.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
+MAX_ROWS = 60
+
+
+def fmt(value):
+    """A CSV cell for a table: numbers to 4 significant digits, text as it is."""
+    text = value.strip()
+    if text == "":
+        return ""
+    try:
+        number = float(text)
+    except ValueError:
+        return text.replace("|", "\\|")
+    if number != number:  # NaN
+        return "nan"
+    if number.is_integer() and abs(number) < 1e15 and "e" not in text.lower() and "." not in text:
+        return f"{int(number):,}"
+    if number == 0:
+        return "0"
+    if 1e-3 <= abs(number) < 1e6:
+        return f"{number:.4g}"
+    return f"{number:.3g}"
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for row in rows:
+        lines.append("| " + " | ".join(row) + " |")
+    return "\n".join(lines)
+
+
+def csv_section(path, root, columns):
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        fields = reader.fieldnames or []
+        records = list(reader)
+    shown = [c for c in columns if c in fields] if columns else []
+    if not shown:
+        shown = fields
+    rows = [[fmt(r.get(c) or "") for c in shown] for r in records[:MAX_ROWS]]
+    out = [f"`{path.relative_to(root)}`, {len(records)} rows"
+           + (f" (the first {MAX_ROWS} shown)" if len(records) > MAX_ROWS else "")
+           + (f"; columns shown: {len(shown)} of {len(fields)}" if len(shown) < len(fields) else "") + ":", ""]
+    out.append(table(shown, rows) if rows else "(no rows)")
+    return "\n".join(out)
+
+
+def decode_section(path, root):
+    with open(path) as f:
+        data = json.load(f)
+    keys = ["file", "texels", "views", "samples", "repeats", "table_MB", "value_per_s", "values_per_s",
+            "lafortune_per_s", "value_vs_lafortune", "values_vs_lafortune"]
+    rows = []
+    for k in keys:
+        if k in data:
+            v = data[k]
+            if isinstance(v, list):
+                v = " × ".join(str(x) for x in v)
+            elif isinstance(v, str) and k == "file":
+                v = os.path.basename(v)
+            rows.append([k, fmt(str(v)) if not isinstance(v, str) else v])
+    return f"`{path.relative_to(root)}`:\n\n" + table(["measure", "value"], rows)
+
+
+def machine():
+    model, cores_per_socket, sockets = "unknown CPU", None, set()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                key, value = key.strip(), value.strip()
+                if key == "model name" and model == "unknown CPU":
+                    model = value
+                elif key == "cpu cores" and cores_per_socket is None:
+                    cores_per_socket = value
+                elif key == "physical id":
+                    sockets.add(value)
+    except OSError:
+        pass
+    logical = os.cpu_count() or 0
+    memory = "unknown"
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    memory = f"{int(line.split()[1]) / 1024 / 1024:.1f} GiB"
+                    break
+    except OSError:
+        pass
+    cores = f"{logical} logical CPUs"
+    if cores_per_socket:
+        cores += f" ({cores_per_socket} cores per socket, {max(len(sockets), 1)} socket(s))"
+    return model, cores, memory
+
+
+def git(repo, *args):
+    try:
+        return subprocess.run(["git", "-C", str(repo), *args], capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return ""
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("run_dir", type=Path, help="folder holding the benches' outputs (searched recursively)")
+    parser.add_argument("-o", "--output", type=Path, default=None, help="page to write (default: docs/results.md)")
+    args = parser.parse_args()
+
+    repo = Path(__file__).resolve().parents[2]
+    out_path = args.output or repo / "docs" / "results.md"
+    root = args.run_dir.resolve()
+    if not root.is_dir():
+        sys.exit(f"make_results_page: {root}: no such folder")
+
+    meta = {}
+    if (root / "meta.json").is_file():
+        with open(root / "meta.json") as f:
+            meta = json.load(f)
+    commit = meta.get("commit") or git(repo, "rev-parse", "HEAD") or "unknown"
+    dirty = meta.get("dirty")
+    if dirty is None:
+        dirty = bool(git(repo, "status", "--porcelain", "--untracked-files=no"))
+    files = sorted(p for p in root.rglob("*") if p.is_file())
+    newest = max((p.stat().st_mtime for p in files), default=None)
+    measured = meta.get("date") or (
+        datetime.datetime.fromtimestamp(newest, datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC") if newest else "unknown")
+    generated = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    here = machine()
+    model, cores, memory = meta.get("cpu") or here[0], meta.get("cores") or here[1], meta.get("memory") or here[2]
+
+    page = [
+        "# Results",
+        "",
+        "[README](../README.md) · [sampling](sampling.md) · [compress](compress.md) · [validate](validate.md) · [fit](fit.md)",
+        "",
+        "<!-- Generated by tools/results/make_results_page.py; do not edit by hand. -->",
+        "",
+        "Measured figures of libbtf, as its benchmarks wrote them. This page is generated: every figure below "
+        "comes from the files of one benchmark run, none is typed by hand. To regenerate it on your machine:",
+        "",
+        "```sh",
+        "bash tools/results/run_benches.sh            # quick sizes; writes build/results/ and this page",
+        "/usr/bin/python3 tools/results/make_results_page.py RUN_DIR   # the page from any folder of bench outputs",
+        "```",
+        "",
+        "Timings depend on the machine and on what else runs on it; compare ratios taken within one run "
+        "rather than absolute rates across runs. The quick sizes check that everything runs and show the "
+        "shape of the results; the full benchmarks (the commands without `--quick`, see `btf bench <name> "
+        "--help`) take minutes to hours.",
+        "",
+        "## The run",
+        "",
+        table(["", ""], [
+            ["measured", measured],
+            ["page generated", generated],
+            ["commit", f"`{commit}`" + (" (with uncommitted changes)" if dirty else "")],
+            ["CPU", model],
+            ["cores", cores],
+            ["memory", memory],
+            ["system", meta.get("system") or f"{platform.system()} {platform.release()}"],
+            ["outputs", f"`{root}`"],
+        ]),
+        "",
+    ]
+    commands = root / "commands.txt"
+    if commands.is_file():
+        page += ["Commands that produced the figures:", "", "```sh", commands.read_text().rstrip(), "```", ""]
+    else:
+        page += ["The folder records no commands (it was not made by `run_benches.sh`); each section names "
+                 "the benchmark that writes its file.", ""]
+
+    found = {name: sorted(p for p in files if p.name == name) for name in ORDER}
+    sections = 0
+    for name in ORDER:
+        title, command, columns = KNOWN[name]
+        for path in found[name]:
+            page += [f"## {title}", "", f"Written by `{command}`.", "", csv_section(path, root, columns), ""]
+            sections += 1
+            if name == "samplers.csv" and (path.parent / "summary.txt").is_file():
+                page += [f"The report of `{command}` (`{(path.parent / 'summary.txt').relative_to(root)}`):", "",
+                         "```", (path.parent / "summary.txt").read_text().rstrip(), "```", ""]
+    for path in sorted(p for p in files if p.name.startswith("decode") and p.suffix == ".json"):
+        page += ["## Decoding: random lookups from a .btfz", "", "Written by `btf bench decode FILE --json`.", "",
+                 decode_section(path, root), ""]
+        sections += 1
+    known_names = set(ORDER)
+    for path in files:
+        if path.suffix == ".csv" and path.name not in known_names:
+            page += [f"## {path.name}", "", csv_section(path, root, []), ""]
+            sections += 1
+    if sections == 0:
+        page += ["No benchmark output was found in the folder.", ""]
+
+    text = "\n".join(page).rstrip() + "\n"
+    tmp = out_path.with_name(out_path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, out_path)
+    print(f"wrote {out_path} ({sections} sections from {root})")
+
+
+if __name__ == "__main__":
+    main()

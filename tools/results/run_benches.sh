@@ -1,0 +1,64 @@
+#!/bin/bash
+# Runs the quick versions of the `btf bench` experiments into one folder, then writes
+# docs/results.md from it (tools/results/make_results_page.py).
+#
+#   bash tools/results/run_benches.sh [OUT_DIR]        (default OUT_DIR: build/results)
+#
+# BTF_BIN sets the folder of btf and btf-datagen (default build/bin); BTF_SHARED_DATA_DIR the
+# third-party data (default ../shared/data/real; the RGL and fits benches are skipped without it).
+# Everything runs at `nice -n 19`. The commands are recorded in OUT_DIR/commands.txt, and the
+# commit and machine in OUT_DIR/meta.json, so the page says what produced it.
+set -euo pipefail
+
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+bin=${BTF_BIN:-$repo/build/bin}
+data=${BTF_SHARED_DATA_DIR:-$repo/../shared/data/real}
+out=${1:-$repo/build/results}
+for tool in btf btf-datagen; do
+  [[ -x $bin/$tool ]] || { echo "run_benches: $bin/$tool not found (build first, or set BTF_BIN)" >&2; exit 1; }
+done
+
+# The folder is replaced only when a previous run made it (or it is empty).
+if [[ -d $out && -n $(ls -A "$out") && ! -f $out/meta.json ]]; then
+  echo "run_benches: $out exists and was not made by this script; choose another folder" >&2
+  exit 1
+fi
+rm -rf "$out"
+mkdir -p "$out"
+cd "$out"
+: >commands.txt
+
+# Runs a command at the lowest priority and records it (with build/bin/ for the binaries' folder).
+run() {
+  echo "${*//$bin\//build/bin/}" | sed "s|$out/||g" >>commands.txt
+  nice -n 19 "$@"
+}
+
+commit=$(git -C "$repo" rev-parse HEAD)
+dirty=false
+[[ -z $(git -C "$repo" status --porcelain --untracked-files=no) ]] || dirty=true
+cat >meta.json <<META
+{"date": "$(date -u '+%Y-%m-%d %H:%M UTC')", "commit": "$commit", "dirty": $dirty,
+ "system": "$(uname -sr)"}
+META
+
+run "$bin/btf" bench sampling --quick -o "$out/sampling"
+run "$bin/btf" bench compression --quick -o "$out/compression"
+run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"
+run "$bin/btf" bench render --quick -o "$out/render"
+
+# Decoding needs a .btfz: a small synthetic BTF, compressed.
+run "$bin/btf-datagen" btf --pattern fabric --size 16 --format exr -o "$out/decode/fabric"
+run "$bin/btf" compress "$out/decode/fabric" "$out/decode/fabric.btfz" --epsilon 0.05
+echo "build/bin/btf bench decode decode/fabric.btfz --samples 65536 --repeats 2 --json > decode/decode.json" >>commands.txt
+nice -n 19 "$bin/btf" bench decode "$out/decode/fabric.btfz" --samples 65536 --repeats 2 --json >"$out/decode/decode.json"
+rm -rf "$out/decode/fabric"
+
+if [[ -d $data/fits ]]; then
+  run "$bin/btf" bench fits --materials alum-bronze --references sgd --models ggx --objectives log,linear \
+    --starts 2 --fits-dir "$data/fits" -o "$out/fits"
+else
+  echo "# btf bench fits skipped: no $data/fits" >>commands.txt
+fi
+
+/usr/bin/python3 "$repo/tools/results/make_results_page.py" "$out" -o "$repo/docs/results.md"
