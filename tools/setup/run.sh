@@ -145,11 +145,11 @@ case "$job" in
         BUILD_TARGET="btf_cli btf_datagen" build build -DCMAKE_BUILD_TYPE=Release; demo ;;
   test) build build -DCMAKE_BUILD_TYPE=Release
         ctest --test-dir build --output-on-failure -j"$jobs" ;;
-  asan) # Only the library's tests run under the sanitizers: building the command-line programs a
+  asan) # Only the library's tests (and the library guide's examples) run under the sanitizers: building the command-line programs a
         # second time would double CI's compile time, and their tests run in the Release pass.
         # Line tables only (-g1): the sanitizers' reports still name file and line, while the
         # compile is shorter and the objects smaller than with full debug information.
-        BUILD_TARGET=btf_unit_tests build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        BUILD_TARGET="btf_unit_tests docs_examples" build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
           "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DBTF_SANITIZE=ON -DBTF_BUILD_BENCHMARKS=OFF
         # The statistical and slow tiers (tests/support/tier.h: high sample counts, large fits,
         # thousands of image writes) repeat arithmetic that the unit tier reaches at small sizes
