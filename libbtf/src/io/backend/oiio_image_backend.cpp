@@ -110,7 +110,8 @@ class OiioReader final : public Reader {
 
 OIIO::ImageSpec specOf(const WriteSpec& w) {
   OIIO::ImageSpec spec(w.width, w.height, w.channels, toOiio(w.stored));
-  for (const auto& [name, value] : w.attributes) std::visit([&](const auto& v) { spec.attribute(name, v); }, value);
+  for (const auto& attribute : w.attributes)  // (clang 14 cannot capture a structured binding)
+    std::visit([&](const auto& v) { spec.attribute(attribute.first, v); }, attribute.second);
   return spec;
 }
 
