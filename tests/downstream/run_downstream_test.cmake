@@ -15,5 +15,5 @@ run(${CMAKE_COMMAND} --install "${BTF_BINARY_DIR}" --prefix "${prefix}" --config
 run(${CMAKE_COMMAND} -S "${DOWNSTREAM_SOURCE_DIR}" -B "${WORK_DIR}/build" -DCMAKE_PREFIX_PATH=${prefix}
     -DCMAKE_BUILD_TYPE=${BUILD_TYPE})
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
-run(${CMAKE_COMMAND} -E env "LD_LIBRARY_PATH=${prefix}/lib:${prefix}/lib/x86_64-linux-gnu" "${WORK_DIR}/build/downstream")
+run(${CMAKE_COMMAND} -E env "LD_LIBRARY_PATH=${prefix}/lib:${prefix}/lib/x86_64-linux-gnu" "${WORK_DIR}/build/downstream" "${WORK_DIR}")
 message(STATUS "downstream project built and ran against the installed libbtf")
