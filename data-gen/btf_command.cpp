@@ -57,7 +57,7 @@ CLI::App* addBtfCommand(CLI::App& app, BtfCommandOptions& o) {
   cmd->add_option("-o,--output", o.output, "Output folder (created; replaces an older BTF folder)")->required();
   cmd->add_flag("--camera", o.camera,
                 "Record it as a measurement's camera does: registration error, sensor noise, 8-bit sRGB PNG clipped at\n"
-                "an auto-exposed white (the camera the print pattern is calibrated with; README)");
+                "an auto-exposed white (the camera the print pattern is calibrated with; docs/design-notes.md)");
   cmd->add_flag("--json", o.json, "Machine-readable summary");
   return cmd;
 }
