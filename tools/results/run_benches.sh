@@ -48,6 +48,7 @@ run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out
 run "$bin/btf" bench render --quick -o "$out/render"
 
 # Decoding needs a .btfz: a small synthetic BTF, compressed.
+mkdir -p "$out/decode"
 run "$bin/btf-datagen" btf --pattern fabric --size 16 --format exr -o "$out/decode/fabric"
 run "$bin/btf" compress "$out/decode/fabric" "$out/decode/fabric.btfz" --epsilon 0.05
 echo "build/bin/btf bench decode decode/fabric.btfz --samples 65536 --repeats 2 --json > decode/decode.json" >>commands.txt
