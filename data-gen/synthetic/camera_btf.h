@@ -39,8 +39,9 @@ struct CameraOptions {
 float exposureWhite(const BtfSource& source);
 
 // The camera the print pattern is calibrated with against the measured WALLPAPER slice
-// (docs/design-notes.md#a-generator-calibrated-to-real-data): registration error up to 0.2 texel,
-// read noise 0.8 % and shot noise 2 % of white, 8-bit sRGB codes, white by exposureWhite(source).
+// (docs/design-notes.md#a-generator-calibrated-to-real-data): the registration error, read noise
+// and shot noise that measuredCameraOptions sets (camera_btf.cpp, the one place they are stated),
+// 8-bit sRGB codes, white by exposureWhite(source).
 CameraOptions measuredCameraOptions(const BtfSource& source, std::uint64_t seed);
 
 class CameraBtf final : public BtfSource {

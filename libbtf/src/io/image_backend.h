@@ -27,17 +27,6 @@ inline constexpr int kAbiVersion = 1;
 // The per-channel type of pixels in a file, or of the buffer they are read into or written from.
 enum class PixelType { UInt8, UInt16, Half, Float, Other };
 
-inline std::size_t pixelTypeSize(PixelType type) {
-  switch (type) {
-    case PixelType::UInt8: return 1;
-    case PixelType::UInt16:
-    case PixelType::Half: return 2;
-    case PixelType::Float: return 4;
-    case PixelType::Other: break;
-  }
-  return 0;
-}
-
 using Attribute = std::variant<int, float, std::string>;
 
 // What a file's header says of its current subimage.
