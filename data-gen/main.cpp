@@ -13,6 +13,7 @@
 #include "btf/core/math.h"
 #include "btf/io/merl.h"
 #include "btf/material/albedo.h"
+#include "btf/material/registry.h"
 #include "btf/material/tabulated_brdf.h"
 #include "acquisition_response.h"
 #include "btf_command.h"
@@ -74,12 +75,15 @@ struct Source {
 Source resolveSource(const Options& o, bool compare) {
   if (!o.preset.empty()) return {o.preset, findPreset(o.preset).make(), std::nullopt};
   const MerlFits fits = loadMerlFits(o.fits_dir);
-  const FitModel model = parseFitModel(o.model);
-  std::shared_ptr<const Material> material = makeMerlFitMaterial(fits, o.merl_fit, model);
+  const ModelFamily model = parseModelFamily(o.model, kPublishedFitFamilies);
+  MaterialParams params("merl-fit");
+  params.set("name", o.merl_fit).set("model", o.model);
+  if (!o.fits_dir.empty()) params.set("fits_dir", o.fits_dir);
+  std::shared_ptr<const Material> material = createMaterial(params);
   const std::string name = fits.resolve(o.merl_fit);
   std::optional<MerlFitComparison> comparison;
   if (compare) comparison = compareMerlFits(fits, name, kFitDisagreementThreshold);
-  return {name + " (" + fitModelName(model) + ")", std::move(material), std::move(comparison)};
+  return {name + " (" + modelFamilyName(model) + ")", std::move(material), std::move(comparison)};
 }
 
 // The analytic material with the acquisition response that the generated table is sampled from.
@@ -178,7 +182,7 @@ void run(Options& o) {
   if (o.preset.empty() && o.merl_fit.empty())
     throw Error("choose a material with --preset NAME (see --list-presets) or --merl-fit NAME (see --list-merl-fits)");
   if (!o.preset.empty()) findPreset(o.preset);  // fail on a typo before any work
-  else makeMerlFitMaterial(loadMerlFits(o.fits_dir), o.merl_fit, parseFitModel(o.model));
+  else makeMerlFitMaterial(loadMerlFits(o.fits_dir), o.merl_fit, parseModelFamily(o.model, kPublishedFitFamilies));
   if (o.clean) {
     o.artifacts = TableArtifacts{};
     o.falloff = 0.0f;

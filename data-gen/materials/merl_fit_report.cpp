@@ -14,38 +14,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The installed copy, found relative to the running executable so that a relocated install works.
-fs::path installedFitsFolder() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return {};
-  return (exe.parent_path() / BTF_FITS_INSTALL_RELATIVE).lexically_normal();
-}
-
 std::string modelList(const MerlFits& fits, const std::string& name) {
   std::string s;
-  for (FitModel m : fits.modelsFor(name)) {
+  for (ModelFamily m : fits.modelsFor(name)) {
     if (!s.empty()) s += ',';
-    s += fitModelName(m);
+    s += modelFamilyName(m);
   }
   return s;
 }
 
 }  // namespace
 
-std::vector<std::filesystem::path> defaultFitsFolders() { return {BTF_FITS_BUILD_DIR, installedFitsFolder()}; }
-
-MerlFits loadMerlFits(const std::string& fits_dir_option) {
-  // An explicit folder that lacks the tables is a mistake to report, not to paper over.
-  if (!fits_dir_option.empty()) return MerlFits::load(findMerlFitsFolder({fits_dir_option}));
-  return MerlFits::load(findMerlFitsFolder(defaultFitsFolders()));
-}
-
 std::optional<MerlFitComparison> compareFitsOfFile(const std::filesystem::path& file, const std::string& name) {
   const std::string wanted = name.empty() ? file.stem().string() : name;
   std::optional<MerlFits> fits;
   try {
-    fits = loadMerlFits("");
+    fits = loadMerlFits();
   } catch (const Error& e) {
     log(LogLevel::Info, std::string("no comparison with published fits: ") + e.what());
     return std::nullopt;
@@ -64,7 +48,7 @@ void listMerlFits(const MerlFits& fits, bool json) {
   nlohmann::json out = nlohmann::json::array();
   for (const std::string& name : fits.names()) {
     nlohmann::json models = nlohmann::json::array();
-    for (FitModel m : fits.modelsFor(name)) models.push_back(fitModelName(m));
+    for (ModelFamily m : fits.modelsFor(name)) models.push_back(modelFamilyName(m));
     const SgdFit* sgd = fits.findSgd(name);
     const std::string other = sgd && sgd->other_name != name ? sgd->other_name : "";
     if (json) {
@@ -83,7 +67,7 @@ nlohmann::json comparisonJson(const MerlFitComparison& c) {
   for (const FitAlbedos& f : c.fits) {
     nlohmann::json albedo = nlohmann::json::array();
     for (const Rgb& a : f.albedo) albedo.push_back({a.r, a.g, a.b});
-    fits.push_back({{"model", fitModelName(f.model)}, {"albedo", albedo}});
+    fits.push_back({{"model", modelFamilyName(f.model)}, {"albedo", albedo}});
   }
   return {{"name", c.name},
           {"theta_o_deg", c.theta_o_deg},
@@ -97,7 +81,7 @@ nlohmann::json comparisonJson(const MerlFitComparison& c) {
 void printFitComparison(const MerlFitComparison& c) {
   std::printf("  albedo of the published fits of %s (mean RGB; r g b):\n", c.name.c_str());
   for (const FitAlbedos& f : c.fits) {
-    std::printf("    %-9s", fitModelName(f.model));
+    std::printf("    %-9s", modelFamilyName(f.model));
     for (std::size_t a = 0; a < f.albedo.size(); ++a)
       std::printf("  %2.0f deg %.3f (%.3f %.3f %.3f)", c.theta_o_deg[a], f.albedo[a].average(), f.albedo[a].r,
                   f.albedo[a].g, f.albedo[a].b);

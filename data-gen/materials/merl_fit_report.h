@@ -1,5 +1,5 @@
-// btf-datagen's access to the published MERL fits: where the CSV tables are, listing them, and
-// showing where the fits of one material disagree.
+// btf-datagen's reports on the published MERL fits (the tables are found by btf::loadMerlFits):
+// listing them, and showing where the fits of one material disagree.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -17,13 +17,6 @@ namespace btf::datagen {
 // fraction of the largest (see compareMerlFits). A much tighter threshold would flag nearly all
 // MERL materials, which tells a user nothing.
 inline constexpr double kFitDisagreementThreshold = 0.30;
-
-// The tables from --fits-dir if given (an error if it lacks them), else from the folder configured
-// at build time (../shared/data/real/fits), else from the installed copy (share/libbtf/fits next
-// to the executable's bin/). Throws btf::Error listing what was tried.
-MerlFits loadMerlFits(const std::string& fits_dir_option);
-// The folders searched when no --fits-dir is given, in order (for scenes with merl-fit materials).
-std::vector<std::filesystem::path> defaultFitsFolders();
 
 // The comparison of the published fits of the material a measured file is named after (its stem,
 // as MERL names its files: gold-metallic-paint.binary), or of `name` when given. Nothing when the

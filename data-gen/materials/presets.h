@@ -1,21 +1,24 @@
 // Named materials of btf-datagen (and the generator materials of `btf bench sampling`), from
-// diffuse to near-mirror. Each builds the isotropic material that a MERL table of it represents
-// (anisotropic models are averaged over phi_h, see azimuthal_average.h).
+// diffuse to near-mirror. Each is a parameter set built through the material registry
+// (btf/material/registry.h), as a scene would hold it; every one is isotropic, as the MERL table it
+// is written into (the anisotropic one is averaged over phi_h, btf/material/azimuthal_average.h).
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "btf/material/material.h"
+#include "btf/material/material_params.h"
 
 namespace btf::datagen {
 
 struct Preset {
   std::string name;
   std::string description;  // one line: model and parameters
-  std::function<std::shared_ptr<const Material>()> make;
+  std::string parameters;   // the material's parameter set, JSON
+  MaterialParams params() const;
+  std::shared_ptr<const Material> make() const;
 };
 
 // In order from diffuse to near-mirror.

@@ -70,7 +70,9 @@ fs::path makeBadInput(const BadInput& bad, const fs::path& dir) {
   if (bad.kind == "wrong_dims") writeRawMerl(path, {90, 180, 90}, entries, false);  // right size, wrong dims
   if (bad.kind == "nan") writeRawMerl(path, {90, 90, 180}, entries, true);
   if (bad.kind == "directory") fs::create_directory(path);
-  if (bad.kind == "unknown_extension") writeRawMerl(path, {90, 90, 180}, entries, false);
+  // Neither the content nor the extension of any format (a MERL table named .txt is read by its
+  // content: ContentBeforeExtension below).
+  if (bad.kind == "unknown_extension") std::ofstream(path) << "theta_h theta_d phi_d r g b\n";
   if (bad.kind == "exr_truncated") {
     writeImageStack(dir / "whole.exr", constantStack(0.25f));
     truncateCopy(dir / "whole.exr", path, 0.5);
@@ -116,6 +118,16 @@ INSTANTIATE_TEST_SUITE_P(AllCommands, BadInputTest,
                          [](const testing::TestParamInfo<Case>& info) {
                            return std::get<0>(info.param) + "_" + std::get<1>(info.param).kind;
                          });
+
+// A file is recognised by its content before its extension: a MERL table named .txt is one.
+TEST(BadInput, ContentBeforeExtension) {
+  TempDir dir;
+  const fs::path table = dir / "table.txt";
+  writeRawMerl(table, {90, 90, 180}, 3 * MerlTable::kEntriesPerChannel, false);
+  const CommandResult r = runBtf({"info", table.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("MERL binary"), std::string::npos) << r.output;
+}
 
 // Unwritable destinations: the input is fine, the output cannot be created.
 TEST(BadOutput, MissingFolderOrDirectoryAsOutputLeavesNothing) {

@@ -84,7 +84,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   const Rgb kd(0.3f, 0.2f, 0.1f), f0(0.04f, 0.05f, 0.06f);
   const Ggx truth(kd, f0, 0.15f, 0.15f);
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   const AnalyticFit fit = fitTableOf(truth, options);
   test::expectGgxRecovered(fit.parameters, kd, f0, 0.15f, 0.05f);
   EXPECT_LT(fit.report.rel_rmse, 0.01);
@@ -95,7 +95,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardParametersFromItsTable) {
   const Rgb kd(0.1f, 0.3f, 0.5f), ks(0.2f, 0.15f, 0.1f);
   const Ward truth(kd, ks, 0.1f, 0.1f);
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ward;
+  options.family = ModelFamily::Ward;
   const AnalyticFit fit = fitTableOf(truth, options);
   EXPECT_NEAR(fit.parameters.alpha, 0.1f, 0.005f);
   for (int c = 0; c < 3; ++c) {
@@ -109,7 +109,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversOneLafortuneLobeFromItsTable) {
   const Rgb kd(0.2f, 0.2f, 0.1f), rho(0.3f, 0.4f, 0.5f);
   const Lafortune truth(kd, {{rho, glm::vec3(-1.0f, -1.0f, 1.0f), 60.0f}});
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Lafortune;
+  options.family = ModelFamily::Lafortune;
   const AnalyticFit fit = fitTableOf(truth, options);
   ASSERT_EQ(fit.parameters.lobes.size(), 1u);
   const LafortuneLobe& lobe = fit.parameters.lobes[0];
@@ -133,7 +133,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromANoisyTable) {
   for (double& v : table.values)
     if (v > 0) v *= std::exp(gauss(rng) - 0.005);  // mean 1
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   options.starts = 3;
   const AnalyticFit fit = fitAnalytic(table, options);
   EXPECT_NEAR(fit.parameters.alpha, 0.2f, 0.05f * 0.2f);
@@ -151,7 +151,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
   for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; ++i)
     if (rng() % 5 != 0) table.setUnmeasured(i);
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ward;
+  options.family = ModelFamily::Ward;
   options.starts = 3;
   const AnalyticFit fit = fitAnalytic(table, options);
   EXPECT_GT(fit.report.excluded, 4 * fit.report.samples);
@@ -166,7 +166,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
 BTF_SLOW_TEST(AnalyticFit, RecoversANearMirrorGgx) {
   const Rgb kd(0.01f), f0(0.55f, 0.56f, 0.55f);
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   options.starts = 4;
   const AnalyticFit fit = fitTableOf(Ggx(kd, f0, 0.02f, 0.02f), options);
   EXPECT_NEAR(fit.parameters.alpha, 0.02f, 0.1f * 0.02f);
@@ -180,13 +180,13 @@ BTF_SLOW_TEST(AnalyticFit, RecoversANearMirrorGgx) {
 // measure and must win on it, and the linear fit must at least match the published SGD fit.
 BTF_SLOW_TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearObjective) {
   const MerlFits fits = MerlFits::load(test::fitsDir());
-  const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "blue-acrylic", FitModel::Abc));
+  const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "blue-acrylic", ModelFamily::Abc));
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   const AnalyticFit log_fit = fitAnalytic(table, options);
   options.objective = FitObjective::Linear;
   const AnalyticFit linear_fit = fitAnalytic(table, options);
-  const double sgd = tableRelRmse(*makeMerlFitMaterial(fits, "blue-acrylic", FitModel::Sgd), table);
+  const double sgd = tableRelRmse(*makeMerlFitMaterial(fits, "blue-acrylic", ModelFamily::Sgd), table);
   EXPECT_LT(linear_fit.report.rel_rmse, 0.5 * log_fit.report.rel_rmse);
   EXPECT_LT(linear_fit.report.rel_rmse, sgd);
   EXPECT_EQ(parseFitObjective("linear"), FitObjective::Linear);
@@ -198,7 +198,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearO
 BTF_SLOW_TEST(AnalyticFit, AModelThatCannotRepresentTheTableReportsAPoorFit) {
   const Lafortune retro(Rgb(0.05f), {{Rgb(0.6f), glm::vec3(1.0f, 1.0f, 1.0f), 30.0f}});
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   options.starts = 2;
   options.max_iterations = 20;  // enough to see it fail; a converged GGX fits no better
   const AnalyticFit fit = fitTableOf(retro, options);
@@ -223,7 +223,7 @@ BTF_SLOW_TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
 BTF_SLOW_TEST(AnalyticFit, TheSameFitOnOneThreadAndOnSeveral) {
   const MerlTable table = tabulate(Ward(Rgb(0.2f), Rgb(0.1f), 0.2f, 0.2f));
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ward;
+  options.family = ModelFamily::Ward;
   options.starts = 3;
   options.max_iterations = 3;
   AnalyticParameters one, several;
@@ -255,11 +255,11 @@ TEST(AnalyticFit, BadOptionsAndEmptyTablesAreErrors) {
   const MerlTable table = tabulate(Ggx(Rgb(0.3f), Rgb(0.04f), 0.2f, 0.2f));
   options.lobes = 2;
   EXPECT_THROW((void)fitAnalytic(table, options), Error);  // lobes are for lafortune only
-  options.family = AnalyticFamily::Lafortune;
+  options.family = ModelFamily::Lafortune;
   options.lobes = 4;
   EXPECT_THROW((void)fitAnalytic(table, options), Error);
-  EXPECT_THROW((void)parseAnalyticFamily("phong"), Error);
-  EXPECT_EQ(parseAnalyticFamily("ward"), AnalyticFamily::Ward);
+  EXPECT_THROW((void)parseModelFamily("phong", kFittableFamilies), Error);
+  EXPECT_EQ(parseModelFamily("ward", kFittableFamilies), ModelFamily::Ward);
 }
 
 // The fit file keeps every parameter exactly (floats through JSON doubles) for each model.
@@ -268,13 +268,13 @@ TEST(AnalyticFitFile, RoundTripsEveryModel) {
   AnalyticFit fit;
   fit.report.rel_rmse = 0.25;
   std::vector<AnalyticParameters> models(3);
-  models[0] = {AnalyticFamily::Ggx, Rgb(0.1f, 0.2f, 0.3f), Rgb(0.04f, 0.5f, 1.0f), 0.123456f, {}};
-  models[1] = {AnalyticFamily::Ward, Rgb(0.3f, 0.2f, 0.1f), Rgb(0.7f, 0.01f, 0.02f), 0.0345f, {}};
-  models[2] = {AnalyticFamily::Lafortune, Rgb(0.05f), Rgb(), 0.0f,
+  models[0] = {ModelFamily::Ggx, Rgb(0.1f, 0.2f, 0.3f), Rgb(0.04f, 0.5f, 1.0f), 0.123456f, {}};
+  models[1] = {ModelFamily::Ward, Rgb(0.3f, 0.2f, 0.1f), Rgb(0.7f, 0.01f, 0.02f), 0.0345f, {}};
+  models[2] = {ModelFamily::Lafortune, Rgb(0.05f), Rgb(), 0.0f,
                {{Rgb(0.3f, 0.2f, 0.1f), glm::vec3(-0.7f, -0.7f, 0.71f), 37.5f}, {Rgb(0.0f, 0.0f, 0.2f), glm::vec3(0.9f, 0.9f, 0.4f), 3.25f}}};
   for (const AnalyticParameters& p : models) {
     fit.parameters = p;
-    const fs::path path = dir / (std::string(analyticFamilyName(p.family)) + ".json");
+    const fs::path path = dir / (std::string(modelFamilyName(p.family)) + ".json");
     writeFitFile(path, fit, "source.binary");
     const AnalyticParameters back = readFitFile(path);
     EXPECT_EQ(back.family, p.family);
@@ -305,7 +305,7 @@ TEST(AnalyticFitFile, ErrorsNameTheFileAndTheKey) {
   expectError("{", "malformed JSON");
   expectError(R"({"format": "scene", "version": 1})", "/format");
   expectError(R"({"format": "libbtf-fit", "version": 2})", "/version: 2");
-  expectError(head + R"("model": "phong", "parameters": {}})", "unknown analytic model 'phong'");
+  expectError(head + R"("model": "phong", "parameters": {}})", "unknown model 'phong' (expected lafortune, ggx or ward)");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0]}})", "missing \"alpha\"");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0], "alpha": -1}})",
               "/parameters/alpha");

@@ -78,7 +78,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromABtfTexel) {
     }
   const std::vector<MeasuredReflectance> data = texelMeasurements(btfTexel(btf, glm::ivec2(1, 0)));
   AnalyticFitOptions options;
-  options.family = AnalyticFamily::Ggx;
+  options.family = ModelFamily::Ggx;
   const AnalyticFit fit = fitAnalytic(data, options);
   test::expectGgxRecovered(fit.parameters, kd, f0, 0.25f, 0.05f);
   EXPECT_EQ(fit.report.samples, data.size());

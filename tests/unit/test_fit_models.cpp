@@ -52,7 +52,7 @@ using Reference = double (*)(const CsvRecord&, int, const glm::dvec3&, const glm
 
 // Compares the library's material with the reference formula at `count` direction pairs for every
 // row of a fit table; counts the values the library clamped (reference < 0).
-void expectMatchesReference(const std::string& file, FitModel model, Reference reference, bool clamps_at_zero,
+void expectMatchesReference(const std::string& file, ModelFamily model, Reference reference, bool clamps_at_zero,
                             int& clamped) {
   int compared = 0;
   clamped = 0;
@@ -70,11 +70,11 @@ void expectMatchesReference(const std::string& file, FitModel model, Reference r
         // float output of a double computation on float inputs: 1e-4 relative, plus an absolute
         // floor far below any visible reflectance for values that underflow towards 0. Lafortune
         // computes in float, so x^n carries about 4 n float epsilons (n reaches 7690 in Ngan's table).
-        const double exponent = model == FitModel::Lafortune ? num(row, "n") : 0.0;
+        const double exponent = model == ModelFamily::Lafortune ? num(row, "n") : 0.0;
         const double tolerance = 1e-4 + 4.0 * exponent * 0x1p-23;
         ++compared;
         ASSERT_NEAR(f[c], expected, tolerance * std::abs(expected) + 1e-12)
-            << fitModelName(model) << " " << name << " channel " << c << " wi (" << p.wi.x << "," << p.wi.y << ","
+            << modelFamilyName(model) << " " << name << " channel " << c << " wi (" << p.wi.x << "," << p.wi.y << ","
             << p.wi.z << ") wo (" << p.wo.x << "," << p.wo.y << "," << p.wo.z << ")";
       }
     }
@@ -86,7 +86,7 @@ void expectMatchesReference(const std::string& file, FitModel model, Reference r
 
 TEST(FitModels, SgdReproducesThePublishedParametersFormula) {
   int clamped = 0;
-  expectMatchesReference(kSgdFitsFile, FitModel::Sgd, referenceSgd, true, clamped);
+  expectMatchesReference(kSgdFitsFile, ModelFamily::Sgd, referenceSgd, true, clamped);
   // F < 0 near cos_d = 1 for the fits with f1 > f0 (blue-fabric, white-fabric2, white-paint), but
   // their diffuse term keeps f > 0 (smallest value 0.0077 1/sr, blue-fabric red at normal view),
   // so the library's clamp at 0 is a guard that the published fits never reach.
@@ -95,13 +95,13 @@ TEST(FitModels, SgdReproducesThePublishedParametersFormula) {
 
 TEST(FitModels, AbcReproducesThePublishedParametersFormula) {
   int clamped = 0;
-  expectMatchesReference(kAbcFitsFile, FitModel::Abc, referenceAbc, false, clamped);
+  expectMatchesReference(kAbcFitsFile, ModelFamily::Abc, referenceAbc, false, clamped);
 }
 
 TEST(FitModels, LafortuneReproducesThePublishedParametersFormula) {
   // Rows of Ngan's table, including the 14 materials outside the MERL 100.
   int clamped = 0;
-  expectMatchesReference(kLafortuneFitsFile, FitModel::Lafortune, referenceLafortune, false, clamped);
+  expectMatchesReference(kLafortuneFitsFile, ModelFamily::Lafortune, referenceLafortune, false, clamped);
 }
 
 // Materials for the sampling tests: sharp metals (chrome; specular-orange-phenolic has SGD
@@ -110,7 +110,7 @@ TEST(FitModels, LafortuneReproducesThePublishedParametersFormula) {
 const std::vector<std::string> kSamplingMaterials = {"chrome", "specular-orange-phenolic", "gold-metallic-paint",
                                                      "blue-fabric", "pink-felt"};
 
-class FitSampling : public ::testing::TestWithParam<std::tuple<std::string, FitModel>> {};
+class FitSampling : public ::testing::TestWithParam<std::tuple<std::string, ModelFamily>> {};
 
 BTF_STATISTICAL_TEST_P(FitSampling, SamplerPassesChi2) {
   // 500,000 draws per view (normal, 40 deg, 80 deg), 20 x 40 cells, significance 0.01, seed 1.
@@ -154,9 +154,9 @@ TEST_P(FitSampling, IsReciprocalToTheBit) {
 
 INSTANTIATE_TEST_SUITE_P(Fits, FitSampling,
                          ::testing::Combine(::testing::ValuesIn(kSamplingMaterials),
-                                            ::testing::Values(FitModel::Sgd, FitModel::Abc)),
+                                            ::testing::Values(ModelFamily::Sgd, ModelFamily::Abc)),
                          [](const auto& info) {
-                           std::string s = std::get<0>(info.param) + "_" + fitModelName(std::get<1>(info.param));
+                           std::string s = std::get<0>(info.param) + "_" + modelFamilyName(std::get<1>(info.param));
                            for (char& c : s) if (c == '-') c = '_';
                            return s;
                          });
@@ -165,11 +165,11 @@ TEST(FitModels, AlbedoAtMostOneUpTo60DegreesForEveryFit) {
   // Every fit of every material at theta_o = 0, 30, 60 deg (half-vector quadrature, 128 x 256).
   // Beyond 60 deg this does not hold for some SGD fits (next test), so it is not claimed there.
   for (const std::string& name : fits().names())
-    for (FitModel model : fits().modelsFor(name)) {
+    for (ModelFamily model : fits().modelsFor(name)) {
       const auto material = makeMerlFitMaterial(fits(), name, model);
       for (float deg : {0.0f, 30.0f, 60.0f}) {
         const Rgb a = integrateAlbedoHalfVector(*material, glm::radians(deg), 128, 256);
-        EXPECT_LE(a.maxComponent(), 1.0f) << fitModelName(model) << " " << name << " at " << deg << " deg";
+        EXPECT_LE(a.maxComponent(), 1.0f) << modelFamilyName(model) << " " << name << " at " << deg << " deg";
         EXPECT_GE(a.minComponent(), 0.0f);
       }
     }
@@ -179,7 +179,7 @@ TEST(FitModels, SomePublishedSgdFitsExceedAlbedoOneAtGrazing) {
   // Documented, not hidden: the SGD fit of white-paint has rho_s = 4.1 in red, and its red albedo
   // passes 1 at 75 deg and grows towards grazing. Fits of measured data are only checked where
   // the measurements were, and MERL has little grazing data.
-  const auto material = makeMerlFitMaterial(fits(), "white-paint", FitModel::Sgd);
+  const auto material = makeMerlFitMaterial(fits(), "white-paint", ModelFamily::Sgd);
   EXPECT_LT(integrateAlbedoHalfVector(*material, glm::radians(30.0f)).r, 1.0f);
   EXPECT_GT(integrateAlbedoHalfVector(*material, glm::radians(75.0f)).r, 1.0f);
 }

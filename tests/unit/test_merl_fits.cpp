@@ -110,7 +110,7 @@ TEST(MerlFits, NameSetsMatchSourcesMd) {
   EXPECT_EQ(merl_in_lafortune, 86);
   EXPECT_EQ(fits.names().size(), 114u) << "100 MERL names + 14 Lafortune-only materials";
   EXPECT_FALSE(fits.isMerl("copper"));
-  EXPECT_EQ(fits.modelsFor("copper"), std::vector<FitModel>{FitModel::Lafortune});
+  EXPECT_EQ(fits.modelsFor("copper"), std::vector<ModelFamily>{ModelFamily::Lafortune});
 }
 
 TEST(MerlFits, ResolvesAlternativeNamesAndSuggestsCloseOnes) {
@@ -134,15 +134,15 @@ TEST(MerlFits, ResolvesAlternativeNamesAndSuggestsCloseOnes) {
 
 TEST(MerlFits, MakesEachModelAndNamesWhatATableLacks) {
   const MerlFits fits = MerlFits::load(fitsDir());
-  EXPECT_EQ(makeMerlFitMaterial(fits, "metallic-gold", FitModel::Sgd)->name(), "sgd(gold-metallic-paint)");
-  EXPECT_EQ(makeMerlFitMaterial(fits, "chrome", FitModel::Abc)->name(), "abc(chrome)");
-  EXPECT_NE(makeMerlFitMaterial(fits, "chrome", FitModel::Lafortune)->name().find("lafortune"), std::string::npos);
-  const std::string lacks = errorOf([&] { makeMerlFitMaterial(fits, "white-marble", FitModel::Lafortune); });
+  EXPECT_EQ(makeMerlFitMaterial(fits, "metallic-gold", ModelFamily::Sgd)->name(), "sgd(gold-metallic-paint)");
+  EXPECT_EQ(makeMerlFitMaterial(fits, "chrome", ModelFamily::Abc)->name(), "abc(chrome)");
+  EXPECT_NE(makeMerlFitMaterial(fits, "chrome", ModelFamily::Lafortune)->name().find("lafortune"), std::string::npos);
+  const std::string lacks = errorOf([&] { makeMerlFitMaterial(fits, "white-marble", ModelFamily::Lafortune); });
   EXPECT_NE(lacks.find("no lafortune fit of 'white-marble'"), std::string::npos) << lacks;
   EXPECT_NE(lacks.find("sgd, abc"), std::string::npos) << lacks;
-  EXPECT_NE(errorOf([&] { makeMerlFitMaterial(fits, "copper", FitModel::Abc); }).find("lafortune"), std::string::npos);
-  EXPECT_EQ(parseFitModel("abc"), FitModel::Abc);
-  EXPECT_NE(errorOf([] { parseFitModel("cook-torrance"); }).find("choose sgd, abc or lafortune"), std::string::npos);
+  EXPECT_NE(errorOf([&] { makeMerlFitMaterial(fits, "copper", ModelFamily::Abc); }).find("lafortune"), std::string::npos);
+  EXPECT_EQ(parseModelFamily("abc", kPublishedFitFamilies), ModelFamily::Abc);
+  EXPECT_NE(errorOf([] { parseModelFamily("cook-torrance", kPublishedFitFamilies); }).find("unknown model 'cook-torrance' (expected sgd, abc or lafortune)"), std::string::npos);
 }
 
 TEST(MerlFits, MalformedTablesNameFileAndLine) {

@@ -101,7 +101,7 @@ std::vector<FurnaceCase> furnaceMaterials() {
   for (const char* rgl : {"paper_white_rgb", "vch_golden_yellow_rgb"})
     cases.push_back({rgl, std::make_shared<RglBrdf>(shared / "rgl_bsdf" / (std::string(rgl) + ".bsdf"))});
   cases.push_back({"merl_fit_gold_metallic_paint_sgd",
-                   std::shared_ptr<const Material>(makeMerlFitMaterial(MerlFits::load(shared / "fits"), "gold-metallic-paint", FitModel::Sgd))});
+                   std::shared_ptr<const Material>(makeMerlFitMaterial(MerlFits::load(shared / "fits"), "gold-metallic-paint", ModelFamily::Sgd))});
   return cases;
 }
 

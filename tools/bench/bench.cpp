@@ -278,7 +278,8 @@ void registerBenchCommand(CLI::App& app) {
                   "1/(variance*seconds) of an environment-lit radiance estimate; CSV and gnuplot charts");
   auto o = std::make_shared<BenchOptions>();
   cmd->add_option("--materials", o->materials,
-                  "Comma-separated: datagen presets, MERL fits NAME[:sgd|abc|lafortune], RGL file stems");
+                  "Comma-separated: btf-datagen presets by name, or any material file or spec the other verbs open "
+                  "(an RGL .bsdf, a MERL .binary, a fit .json, merl-fit:MODEL:NAME, ...)");
   cmd->add_flag("--quick", o->quick, "Tiny tables and few draws (seconds; for tests)");
   cmd->add_option("--theta-o", o->theta_o, "Outgoing zenith angles of the measurements (deg, comma-separated)")
       ->delimiter(',')->capture_default_str();

@@ -27,8 +27,7 @@
 #include "btf/io/atomic_file.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_quality.h"
-#include "btf/material/rgl_brdf.h"
-#include "btf_input.h"
+#include "btf/material/registry.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"
 #include "presets.h"
@@ -284,8 +283,7 @@ void benchBrdfs(const std::filesystem::path& folder, float epsilon, bool quick) 
   std::sort(rgl_files.begin(), rgl_files.end());
   if (quick) rgl_files.resize(std::min<std::size_t>(rgl_files.size(), 1));
   for (const std::filesystem::path& file : rgl_files) {
-    const RglBrdf m(file);
-    run(m, file.stem().string(), std::filesystem::file_size(file));
+    run(*openMaterial(file.string()), file.stem().string(), std::filesystem::file_size(file));
   }
   for (const auto& preset : datagen::presets())
     if (!quick || preset.name == "plastic-red") run(*preset.make(), preset.name, 0);

@@ -60,8 +60,8 @@ struct Row {
 };
 
 // "ours:ggx" for the default (log) objective, "ours:ggx:linear" for the linear one.
-std::string ourName(AnalyticFamily family, FitObjective objective) {
-  return std::string("ours:") + analyticFamilyName(family) + (objective == FitObjective::Log ? "" : std::string(":") + fitObjectiveName(objective));
+std::string ourName(ModelFamily family, FitObjective objective) {
+  return std::string("ours:") + modelFamilyName(family) + (objective == FitObjective::Log ? "" : std::string(":") + fitObjectiveName(objective));
 }
 
 void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
@@ -164,7 +164,7 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Erro
 }
 
 void runBenchFits(const Args& args) {
-  const MerlFits fits = datagen::loadMerlFits(args.fits_dir);
+  const MerlFits fits = loadMerlFits(args.fits_dir);
   std::vector<std::string> materials;
   if (args.materials.empty()) {
     for (const std::string& name : fits.names())
@@ -172,10 +172,10 @@ void runBenchFits(const Args& args) {
   } else {
     for (const std::string& name : splitCommaList(args.materials)) materials.push_back(fits.resolve(name));
   }
-  std::vector<FitModel> references;
-  for (const std::string& r : splitCommaList(args.references)) references.push_back(parseFitModel(r));
-  std::vector<AnalyticFamily> ours;
-  for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseAnalyticFamily(m));
+  std::vector<ModelFamily> references;
+  for (const std::string& r : splitCommaList(args.references)) references.push_back(parseModelFamily(r, kPublishedFitFamilies));
+  std::vector<ModelFamily> ours;
+  for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseModelFamily(m, kFittableFamilies));
   std::vector<FitObjective> objectives;
   for (const std::string& o : splitCommaList(args.objectives)) objectives.push_back(parseFitObjective(o));
   if (materials.empty() || references.empty() || ours.empty() || objectives.empty())
@@ -185,24 +185,24 @@ void runBenchFits(const Args& args) {
   std::vector<Row> rows;
   Progress progress("fitting", std::uint64_t(materials.size() * references.size()));
   for (const std::string& material : materials) {
-    const std::vector<FitModel> available = fits.modelsFor(material);
-    for (FitModel reference : references) {
+    const std::vector<ModelFamily> available = fits.modelsFor(material);
+    for (ModelFamily reference : references) {
       if (std::find(available.begin(), available.end(), reference) == available.end()) {
         progress.advance();
         continue;
       }
       const MerlTable table = tabulate(*makeMerlFitMaterial(fits, material, reference));
-      for (FitModel published : available)
-        rows.push_back({material, fitModelName(reference), fitModelName(published),
+      for (ModelFamily published : available)
+        rows.push_back({material, modelFamilyName(reference), modelFamilyName(published),
                         tableRelRmse(*makeMerlFitMaterial(fits, material, published), table)});
-      for (AnalyticFamily family : ours)
+      for (ModelFamily family : ours)
         for (FitObjective objective : objectives) {
           AnalyticFitOptions options;
           options.family = family;
           options.starts = args.starts;
           options.objective = objective;
           const AnalyticFit fit = fitAnalytic(table, options);
-          rows.push_back({material, fitModelName(reference), ourName(family, objective), fit.report.rel_rmse, true,
+          rows.push_back({material, modelFamilyName(reference), ourName(family, objective), fit.report.rel_rmse, true,
                           fit.report.converged, fit.report.seconds});
         }
       progress.advance();
@@ -211,7 +211,7 @@ void runBenchFits(const Args& args) {
   const std::filesystem::path csv = std::filesystem::path(args.output) / "fits.csv";
   writeCsv(csv, rows);
   std::vector<std::string> our_names;
-  for (AnalyticFamily family : ours)
+  for (ModelFamily family : ours)
     for (FitObjective objective : objectives) our_names.push_back(ourName(family, objective));
   const ErrorTable errors = tabulateRows(rows);
   printSummary(errors, our_names);

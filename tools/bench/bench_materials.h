@@ -1,10 +1,8 @@
-// The materials of `btf bench sampling`, by name:
-// - a btf-datagen preset (e.g. "chrome"): the preset tabulated into a MERL-layout table and read
-//   back as a TabulatedBrdf (interpolated), i.e. what the generator writes, without the file;
-// - "<merl-name>:<model>" (model sgd, abc or lafortune; "<merl-name>" alone means sgd): a published
-//   MERL fit (loadMerlFits("") finds the tables);
-// - an RGL file stem (e.g. "paper_white_rgb"): ../shared/data/real/rgl_bsdf/<stem>.bsdf as an RglBrdf,
-//   whose own sampler is the Dupuy-Jakob warp of the file.
+// The materials of `btf bench sampling`: a btf-datagen preset by name (e.g. "chrome": the preset
+// tabulated into a MERL-layout table and read back as a TabulatedBrdf, interpolated, i.e. what the
+// generator writes, without the file), or anything the material registry opens (a file of any
+// registered format, e.g. an RGL .bsdf with its own warp, or a spec such as
+// merl-fit:sgd:blue-acrylic).
 #pragma once
 
 #include <memory>
@@ -16,15 +14,16 @@
 namespace btf::cli {
 
 struct BenchMaterial {
-  std::string name;
+  std::string name;  // the preset's name, a file's stem, or the spec's label
   std::shared_ptr<const Material> material;
 };
 
-// The default list: every generator preset, two MERL fits, and every RGL file found.
+// The default list: every generator preset, two MERL fits, and every RGL file of the shared data.
 // With `quick`, one preset only.
 std::vector<std::string> defaultBenchMaterialNames(bool quick);
 
-// Builds one material by name; throws btf::Error naming what is known for an unknown name.
+// Builds one material; throws btf::Error naming the presets and the registry's formats for a name
+// that is neither.
 BenchMaterial loadBenchMaterial(const std::string& name);
 
 }  // namespace btf::cli

@@ -31,7 +31,6 @@
 #include "btf/render/scene_loader.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"
-#include "merl_fit_report.h"
 
 namespace btf::cli {
 namespace fs = std::filesystem;
@@ -59,7 +58,6 @@ double seconds(std::chrono::steady_clock::time_point since) {
 render::SceneDescription loadScene(const Args& a, const std::string& sampler) {
   render::SceneLoadOptions load;
   load.sampler_override = sampler;
-  load.fits_folders = datagen::defaultFitsFolders();
   render::SceneDescription d = render::loadSceneDescription(a.scene, load);
   d.camera.width = d.camera.height = a.resolution;
   return d;

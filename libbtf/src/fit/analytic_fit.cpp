@@ -326,15 +326,6 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
 
 }  // namespace
 
-const char* analyticFamilyName(AnalyticFamily family) {
-  switch (family) {
-    case AnalyticFamily::Lafortune: return "lafortune";
-    case AnalyticFamily::Ggx: return "ggx";
-    case AnalyticFamily::Ward: return "ward";
-  }
-  return "?";
-}
-
 const char* fitObjectiveName(FitObjective objective) { return objective == FitObjective::Linear ? "linear" : "log"; }
 
 FitObjective parseFitObjective(std::string_view text) {
@@ -343,29 +334,25 @@ FitObjective parseFitObjective(std::string_view text) {
   throw Error("unknown fit objective '" + std::string(text) + "' (expected log or linear)");
 }
 
-AnalyticFamily parseAnalyticFamily(std::string_view text) {
-  for (AnalyticFamily f : {AnalyticFamily::Lafortune, AnalyticFamily::Ggx, AnalyticFamily::Ward})
-    if (text == analyticFamilyName(f)) return f;
-  throw Error("unknown analytic model '" + std::string(text) + "' (expected lafortune, ggx or ward)");
-}
-
 std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& p) {
   switch (p.family) {
-    case AnalyticFamily::Ggx: return std::make_unique<Ggx>(p.diffuse, p.specular, p.alpha, p.alpha);
-    case AnalyticFamily::Ward: return std::make_unique<Ward>(p.diffuse, p.specular, p.alpha, p.alpha);
-    case AnalyticFamily::Lafortune: return std::make_unique<Lafortune>(p.diffuse, p.lobes);
+    case ModelFamily::Ggx: return std::make_unique<Ggx>(p.diffuse, p.specular, p.alpha, p.alpha);
+    case ModelFamily::Ward: return std::make_unique<Ward>(p.diffuse, p.specular, p.alpha, p.alpha);
+    case ModelFamily::Lafortune: return std::make_unique<Lafortune>(p.diffuse, p.lobes);
+    default: break;
   }
-  throw Error("unknown analytic model");
+  throw Error(std::string("no analytic parameters for the model ") + modelFamilyName(p.family));
 }
 
 namespace {
 
 void checkOptions(const AnalyticFitOptions& options) {
+  (void)parseModelFamily(modelFamilyName(options.family), kFittableFamilies);  // names the fittable ones
   if (options.lobes < 1 || options.lobes > 3) throw Error("fit: lobes must be 1, 2 or 3, got " + std::to_string(options.lobes));
   if (options.starts < 1) throw Error("fit: starts must be >= 1, got " + std::to_string(options.starts));
   if (options.max_iterations < 1) throw Error("fit: max_iterations must be >= 1");
-  if (options.family != AnalyticFamily::Lafortune && (options.lobes != 1 || options.per_channel))
-    throw Error(std::string("fit: lobes and per-channel fits are for lafortune only, not ") + analyticFamilyName(options.family));
+  if (options.family != ModelFamily::Lafortune && (options.lobes != 1 || options.per_channel))
+    throw Error(std::string("fit: lobes and per-channel fits are for lafortune only, not ") + modelFamilyName(options.family));
 }
 
 // The fit of a sample set; rel_rmse and seconds are the caller's.
@@ -390,19 +377,20 @@ AnalyticFit fitSamples(const SampleSet& all, const AnalyticFitOptions& options) 
   report.starts = options.starts * (options.per_channel ? 3 : 1);
   fit.parameters.family = options.family;
   switch (options.family) {
-    case AnalyticFamily::Ggx:
+    case ModelFamily::Ggx:
       fitMicrofacet(set, options, [](const auto* p, const FitSample& s, auto* f) { fit::evalGgx(p, s, f); }, 0.04,
                     fit.parameters, report);
       break;
-    case AnalyticFamily::Ward:
+    case ModelFamily::Ward:
       fitMicrofacet(set, options, [](const auto* p, const FitSample& s, auto* f) { fit::evalWard(p, s, f); }, 0.05,
                     fit.parameters, report);
       break;
-    case AnalyticFamily::Lafortune:
+    case ModelFamily::Lafortune:
       if (options.lobes == 1) fitLafortune<1>(set, options, fit.parameters, report);
       else if (options.lobes == 2) fitLafortune<2>(set, options, fit.parameters, report);
       else fitLafortune<3>(set, options, fit.parameters, report);
       break;
+    default: break;  // refused by checkOptions
   }
   fit.material = makeAnalyticMaterial(fit.parameters);
   return fit;

@@ -7,6 +7,7 @@
 
 #include "btf/core/error.h"
 #include "btf/io/atomic_file.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 namespace {
@@ -57,26 +58,27 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
   const AnalyticParameters& p = fit.parameters;
   json parameters = {{"diffuse", rgbJson(p.diffuse)}};
   switch (p.family) {
-    case AnalyticFamily::Ggx:
+    case ModelFamily::Ggx:
       parameters["f0"] = rgbJson(p.specular);
       parameters["alpha"] = p.alpha;
       break;
-    case AnalyticFamily::Ward:
+    case ModelFamily::Ward:
       parameters["specular"] = rgbJson(p.specular);
       parameters["alpha"] = p.alpha;
       break;
-    case AnalyticFamily::Lafortune: {
+    case ModelFamily::Lafortune: {
       json lobes = json::array();
       for (const LafortuneLobe& lobe : p.lobes)
         lobes.push_back({{"rho", rgbJson(lobe.rho)}, {"c", json::array({lobe.c.x, lobe.c.y, lobe.c.z})}, {"exponent", lobe.exponent}});
       parameters["lobes"] = std::move(lobes);
       break;
     }
+    default: throw Error(std::string("a fit file holds no ") + modelFamilyName(p.family) + " model");
   }
   const AnalyticFitReport& r = fit.report;
   const json doc = {{"format", kFitFileFormat},
                     {"version", 1},
-                    {"model", analyticFamilyName(p.family)},
+                    {"model", modelFamilyName(p.family)},
                     {"parameters", std::move(parameters)},
                     {"fit",
                      {{"source", source},
@@ -113,24 +115,24 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
   if (!model.is_string()) r.fail("/model: expected a string");
   AnalyticParameters p;
   try {
-    p.family = parseAnalyticFamily(model.get<std::string>());
+    p.family = parseModelFamily(model.get<std::string>(), kFittableFamilies);
   } catch (const Error& e) {
     r.fail(std::string("/model: ") + e.what());
   }
   const json& q = r.member(doc, "parameters", "/");
   p.diffuse = r.rgb(r.member(q, "diffuse", "/parameters"), "/parameters/diffuse", 1e6);
   switch (p.family) {
-    case AnalyticFamily::Ggx:
+    case ModelFamily::Ggx:
       r.allowOnly(q, {"diffuse", "f0", "alpha"}, "/parameters");
       p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
       p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
       break;
-    case AnalyticFamily::Ward:
+    case ModelFamily::Ward:
       r.allowOnly(q, {"diffuse", "specular", "alpha"}, "/parameters");
       p.specular = r.rgb(r.member(q, "specular", "/parameters"), "/parameters/specular", 1e6);
       p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
       break;
-    case AnalyticFamily::Lafortune: {
+    case ModelFamily::Lafortune: {
       r.allowOnly(q, {"diffuse", "lobes"}, "/parameters");
       const json& lobes = r.member(q, "lobes", "/parameters");
       if (!lobes.is_array() || lobes.empty()) r.fail("/parameters/lobes: expected an array of one or more lobes");
@@ -147,6 +149,7 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
       }
       break;
     }
+    default: break;  // parseModelFamily admitted only the fittable families
   }
   try {
     (void)makeAnalyticMaterial(p);  // the model's own checks (e.g. a lobe with c = 0)
@@ -155,5 +158,18 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
   }
   return p;
 }
+
+BTF_REGISTER_MATERIAL(fitted, {.name = "fitted",
+                               .summary = "an analytic model fitted by btf fit (its JSON file)",
+                               .keys = {"file"},
+                               .formats = {{.description = "analytic model fitted by btf fit",
+                                            .extensions = {".json"},
+                                            .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
+                                              const std::string_view text(reinterpret_cast<const char*>(head.data()), head.size());
+                                              return text.find(std::string("\"") + kFitFileFormat + "\"") != std::string_view::npos;
+                                            }}},
+                               .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                 return makeAnalyticMaterial(readFitFile(p.existingPath("file")));
+                               }});
 
 }  // namespace btf

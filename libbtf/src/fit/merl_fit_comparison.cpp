@@ -13,7 +13,7 @@ MerlFitComparison compareMerlFits(const MerlFits& fits, std::string_view name, d
   result.name = fits.resolve(name);
   result.theta_o_deg = theta_o_deg;
   result.threshold = threshold;
-  for (FitModel model : fits.modelsFor(result.name)) {
+  for (ModelFamily model : fits.modelsFor(result.name)) {
     const auto material = makeMerlFitMaterial(fits, result.name, model);
     FitAlbedos row{model, {}};
     for (float deg : theta_o_deg) row.albedo.push_back(integrateAlbedoHalfVector(*material, deg * kPi / 180.0f));

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <dlfcn.h>
 #include <fstream>
 #include <set>
 
 #include "btf/core/error.h"
 #include "btf/material/lafortune.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 namespace fs = std::filesystem;
@@ -145,21 +148,6 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
 
 }  // namespace
 
-const char* fitModelName(FitModel model) {
-  switch (model) {
-    case FitModel::Sgd: return "sgd";
-    case FitModel::Abc: return "abc";
-    case FitModel::Lafortune: return "lafortune";
-  }
-  return "?";
-}
-
-FitModel parseFitModel(std::string_view text) {
-  for (FitModel m : kFitModels)
-    if (text == fitModelName(m)) return m;
-  throw Error("unknown fit model '" + std::string(text) + "' (choose sgd, abc or lafortune)");
-}
-
 std::vector<SgdFit> readSgdFits(const fs::path& csv) {
   static const std::vector<std::string> prefixes = {"rhoD", "rhoS", "alpha", "p", "f0", "f1", "kap",
                                                     "lambda", "c", "k", "theta0", "error"};
@@ -267,33 +255,34 @@ std::string MerlFits::resolve(std::string_view name) const {
   throw Error(message + "?");
 }
 
-std::vector<FitModel> MerlFits::modelsFor(std::string_view name) const {
+std::vector<ModelFamily> MerlFits::modelsFor(std::string_view name) const {
   const std::string canonical = resolve(name);
-  std::vector<FitModel> models;
-  if (findSgd(canonical)) models.push_back(FitModel::Sgd);
-  if (findAbc(canonical)) models.push_back(FitModel::Abc);
-  if (findLafortune(canonical)) models.push_back(FitModel::Lafortune);
+  std::vector<ModelFamily> models;
+  if (findSgd(canonical)) models.push_back(ModelFamily::Sgd);
+  if (findAbc(canonical)) models.push_back(ModelFamily::Abc);
+  if (findLafortune(canonical)) models.push_back(ModelFamily::Lafortune);
   return models;
 }
 
-std::unique_ptr<Material> makeMerlFitMaterial(const MerlFits& fits, std::string_view name, FitModel model) {
+std::unique_ptr<Material> makeMerlFitMaterial(const MerlFits& fits, std::string_view name, ModelFamily model) {
   const std::string canonical = fits.resolve(name);
   switch (model) {
-    case FitModel::Sgd:
+    case ModelFamily::Sgd:
       if (const SgdFit* f = fits.findSgd(canonical)) return std::make_unique<Sgd>(f->parameters, canonical);
       break;
-    case FitModel::Abc:
+    case ModelFamily::Abc:
       if (const AbcFit* f = fits.findAbc(canonical)) return std::make_unique<Abc>(f->parameters, canonical);
       break;
-    case FitModel::Lafortune:
+    case ModelFamily::Lafortune:
       if (const LafortuneFit* f = fits.findLafortune(canonical))
         return std::make_unique<Lafortune>(f->rho_d, std::vector<LafortuneLobe>{{f->rho_s, {f->cxy, f->cxy, f->cz}, f->n}});
       break;
+    default: (void)parseModelFamily(modelFamilyName(model), kPublishedFitFamilies);  // names the published ones
   }
   std::string available;
-  for (FitModel m : fits.modelsFor(canonical)) available += (available.empty() ? "" : ", ") + std::string(fitModelName(m));
-  throw Error("no " + std::string(fitModelName(model)) + " fit of '" + canonical + "' (" +
-              (model == FitModel::Lafortune ? "Ngan et al.'s table lacks 14 MERL materials; " : "") +
+  for (ModelFamily m : fits.modelsFor(canonical)) available += (available.empty() ? "" : ", ") + std::string(modelFamilyName(m));
+  throw Error("no " + std::string(modelFamilyName(model)) + " fit of '" + canonical + "' (" +
+              (model == ModelFamily::Lafortune ? "Ngan et al.'s table lacks 14 MERL materials; " : "") +
               "fits of it: " + available + ")");
 }
 
@@ -310,5 +299,36 @@ fs::path findMerlFitsFolder(const std::vector<fs::path>& candidates) {
   throw Error("no folder with the MERL fit tables (" + std::string(kSgdFitsFile) + ", " + kAbcFitsFile + ", " +
               kLafortuneFitsFile + "); tried:" + (tried.empty() ? std::string(" nothing") : tried));
 }
+
+std::vector<fs::path> defaultMerlFitsFolders() {
+  std::vector<fs::path> folders;
+  if (const char* env = std::getenv("BTF_FITS_DIR"); env && *env) folders.emplace_back(env);
+  folders.emplace_back(BTF_FITS_BUILD_DIR);
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&defaultMerlFitsFolders), &info) != 0 && info.dli_fname != nullptr)
+    folders.push_back((fs::path(info.dli_fname).parent_path() / BTF_FITS_INSTALL_RELATIVE).lexically_normal());
+  return folders;
+}
+
+MerlFits loadMerlFits(const fs::path& folder) {
+  // A named folder that lacks the tables is a mistake to report, not to paper over.
+  if (!folder.empty()) return MerlFits::load(findMerlFitsFolder({folder}));
+  return MerlFits::load(findMerlFitsFolder(defaultMerlFitsFolders()));
+}
+
+BTF_REGISTER_MATERIAL(merl_fit, {.name = "merl-fit",
+                                 .summary = "a published analytic fit of a MERL material",
+                                 .keys = {"name", "model", "fits_dir"},
+                                 .spec_keys = {"model", "name"},
+                                 .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                   const MerlFits fits = loadMerlFits(p.has("fits_dir") ? p.existingPath("fits_dir") : fs::path());
+                                   const ModelFamily model = p.has("model")
+                                                                 ? parseModelFamily(p.string("model"), kPublishedFitFamilies)
+                                                                 : ModelFamily::Sgd;
+                                   return makeMerlFitMaterial(fits, p.string("name"), model);
+                                 },
+                                 .label = [](const MaterialParams& p) {
+                                   return p.string("name") + "-" + (p.has("model") ? p.string("model") : "sgd");
+                                 }});
 
 }  // namespace btf

@@ -291,6 +291,18 @@ std::vector<ContainerSection> readContainer(const fs::path& path) {
   return sections;
 }
 
+std::string containerFormatOf(std::span<const unsigned char> head) {
+  if (head.size() < kMagic.size() || std::memcmp(head.data(), kMagic.data(), kMagic.size()) != 0) return {};
+  // The header JSON is written compact by nlohmann::json: "format":"NAME".
+  const std::string_view text(reinterpret_cast<const char*>(head.data()), head.size());
+  constexpr std::string_view key = "\"format\":\"";
+  const std::size_t at = text.find(key);
+  if (at == std::string_view::npos) return {};
+  const std::size_t end = text.find('"', at + key.size());
+  if (end == std::string_view::npos) return {};
+  return std::string(text.substr(at + key.size(), end - at - key.size()));
+}
+
 const ContainerSection& requireSection(std::span<const ContainerSection> sections, std::string_view name,
                                        const fs::path& path) {
   for (const auto& s : sections)

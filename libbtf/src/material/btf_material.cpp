@@ -5,11 +5,14 @@
 #include <cmath>
 
 #include "btf/compress/vq_btf.h"
+#include "btf/core/cdf1d.h"
 #include "btf/core/error.h"
 #include "btf/core/fast_atan.h"
 #include "btf/core/fast_trig.h"
 #include "btf/core/math.h"
-#include "btf/core/cdf1d.h"
+#include "btf/io/btf_images.h"
+#include "btf/io/container.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
@@ -261,5 +264,50 @@ float BtfMaterial::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) c
   const float p_azimuth = cdf[a + 1] - cdf[a];
   return p_ring * p_azimuth / ringCells().cell_solid_angle[std::size_t(r)];
 }
+
+namespace {
+
+// The BTF of a "btf" parameter set: an image folder, or a .btfz file (one material of a database
+// by "material").
+std::shared_ptr<const BtfSource> btfSourceParam(const MaterialParams& p) {
+  const std::filesystem::path file = p.existingPath("file");
+  const std::string material = p.has("material") ? p.string("material") : std::string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    if (!material.empty()) p.fail("material", "names a material of a .btfz database only");
+    return std::make_shared<BtfImageFolder>(BtfImageFolder::open(file));
+  }
+  return std::make_shared<VqBtf>(VqBtf::read(file, material));
+}
+
+}  // namespace
+
+// "mapping", "uv_scale" and "axis" place the texture on a shape; the scene loader reads them.
+BTF_REGISTER_MATERIAL(btf, {.name = "btf",
+                            .summary = "a BTF: an image folder or a VQ-compressed .btfz (one material of a database)",
+                            .keys = {"file", "material", "filter", "mapping", "uv_scale", "axis"},
+                            .formats = {{.description = "image-folder BTF", .folder = true},
+                                        {.description = "VQ-compressed BTF (.btfz)",
+                                         .extensions = {".btfz"},
+                                         .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
+                                           const std::string format = containerFormatOf(head);
+                                           return format == "libbtf-vq" || format == "libbtf-vq-database";
+                                         }}},
+                            .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                              BtfTexelFilter filter = BtfTexelFilter::Bilinear;
+                              if (p.has("filter")) {
+                                const std::string f = p.string("filter");
+                                if (f == "nearest") filter = BtfTexelFilter::Nearest;
+                                else if (f != "bilinear") p.fail("filter", "expected bilinear or nearest");
+                              }
+                              std::shared_ptr<const BtfSource> source = btfSourceParam(p);
+                              std::shared_ptr<const BtfLookup> lookup = std::dynamic_pointer_cast<const BtfLookup>(source);
+                              if (!lookup) lookup = std::make_shared<BtfData>(BtfData::copyOf(*source));
+                              const std::filesystem::path file = p.path("file");
+                              const std::string label = file.filename().string() +
+                                                        (p.has("material") ? ":" + p.string("material") : std::string());
+                              return std::make_shared<BtfMaterial>(std::move(lookup), filter, "btf(" + label + ")");
+                            },
+                            .btf = btfSourceParam});
 
 }  // namespace btf

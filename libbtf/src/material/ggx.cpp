@@ -1,6 +1,8 @@
 #include "btf/material/ggx.h"
 
 #include "analytic_support.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
@@ -94,5 +96,13 @@ std::string Ggx::name() const {
   return "ggx(kd=" + detail::formatRgb(kd_) + ", f0=" + detail::formatRgb(f0_) +
          ", alpha=(" + detail::formatFloat(alpha_x_) + "," + detail::formatFloat(alpha_y_) + "))";
 }
+
+BTF_REGISTER_MATERIAL(ggx, {.name = modelFamilyName(ModelFamily::Ggx),
+                            .summary = "Lambert diffuse + GGX microfacet specular (alpha, or [alpha_x, alpha_y])",
+                            .keys = {"diffuse", "f0", "alpha"},
+                            .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                              const glm::vec2 a = p.positivePair("alpha");
+                              return std::make_shared<Ggx>(p.rgb("diffuse"), p.rgb("f0"), a.x, a.y);
+                            }});
 
 }  // namespace btf

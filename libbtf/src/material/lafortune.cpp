@@ -1,6 +1,8 @@
 #include "btf/material/lafortune.h"
 
 #include "analytic_support.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
@@ -110,5 +112,18 @@ std::string Lafortune::name() const {
          detail::formatFloat(lobe.exponent) + ")";
   return s + ")";
 }
+
+BTF_REGISTER_MATERIAL(lafortune, {.name = modelFamilyName(ModelFamily::Lafortune),
+                                  .summary = "Lambert diffuse + generalized cosine lobes",
+                                  .keys = {"diffuse", "lobes"},
+                                  .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                    std::vector<LafortuneLobe> lobes;
+                                    for (const MaterialParams& lobe : p.list("lobes")) {
+                                      lobe.allowOnly({"rho", "c", "exponent"});
+                                      lobes.push_back({lobe.rgb("rho"), lobe.vec3("c"),
+                                                       float(lobe.number("exponent", 0, 1e6))});
+                                    }
+                                    return std::make_shared<Lafortune>(p.rgb("diffuse"), std::move(lobes));
+                                  }});
 
 }  // namespace btf

@@ -1,6 +1,8 @@
 #include "btf/material/lambert.h"
 
 #include "analytic_support.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 #include "btf/core/math.h"
 #include "btf/core/warp.h"
 
@@ -27,5 +29,12 @@ float Lambert::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
 }
 
 std::string Lambert::name() const { return "lambert(albedo=" + detail::formatRgb(albedo_) + ")"; }
+
+BTF_REGISTER_MATERIAL(lambert, {.name = modelFamilyName(ModelFamily::Lambert),
+                                .summary = "ideal diffuse reflector",
+                                .keys = {"albedo"},
+                                .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                  return std::make_shared<Lambert>(p.rgb("albedo"));
+                                }});
 
 }  // namespace btf

@@ -4,13 +4,15 @@
 #include <cstdio>
 
 #include "btf/core/error.h"
+#include "btf/io/container.h"
+#include "btf/material/registry.h"
 #include "cosine_sampling.h"
 #include "merl_resolution.h"
 #include "table_coordinates.h"
+#include "table_params.h"
 
 namespace btf {
 namespace {
-
 
 // f of one cell (in double: blends of values near the float limit must not overflow) and whether
 // it is measured.
@@ -86,5 +88,20 @@ std::string OctreeBrdf::name() const {
   std::snprintf(text, sizeof text, "octree(tolerance=%g, lookup=%s)", octree_->tolerance(), tableLookupName(lookup_));
   return text;
 }
+
+BTF_REGISTER_MATERIAL(octree, {.name = "octree",
+                               .summary = "an adaptive octree table of a MERL-layout BRDF (btf convert --tolerance)",
+                               .keys = {"file", "lookup"},
+                               .formats = {{.description = "octree table (MERL layout, btf convert --tolerance)",
+                                            .extensions = {".octree"},
+                                            .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
+                                              return containerFormatOf(head) == "libbtf-octree";
+                                            }}},
+                               .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                 const TableLookup lookup = tableLookupParam(p);
+                                 auto table = std::make_shared<const OctreeTable>(readOctreeFile(p.existingPath("file")));
+                                 return std::make_shared<OctreeBrdf>(std::move(table), lookup);
+                               },
+                               .table = [](const MaterialParams& p) { return readOctreeFile(p.existingPath("file")).expand(); }});
 
 }  // namespace btf

@@ -1,6 +1,8 @@
 #include "btf/material/phong.h"
 
 #include "analytic_support.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
@@ -46,5 +48,13 @@ std::string Phong::name() const {
   return "phong(kd=" + detail::formatRgb(kd_) + ", ks=" + detail::formatRgb(ks_) +
          ", n=" + detail::formatFloat(exponent_) + ")";
 }
+
+BTF_REGISTER_MATERIAL(phong, {.name = modelFamilyName(ModelFamily::Phong),
+                              .summary = "energy-normalized modified Phong",
+                              .keys = {"diffuse", "specular", "exponent"},
+                              .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                                return std::make_shared<Phong>(p.rgb("diffuse"), p.rgb("specular"),
+                                                               float(p.number("exponent", 0, 1e6)));
+                              }});
 
 }  // namespace btf

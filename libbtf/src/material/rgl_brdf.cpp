@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <span>
 
 #include "btf/core/error.h"
 #include "btf/core/fast_atan.h"
 #include "btf/core/math.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 namespace {
@@ -235,5 +237,18 @@ float RglBrdf::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
 }
 
 std::string RglBrdf::name() const { return "rgl(" + stem_ + ")"; }
+
+BTF_REGISTER_MATERIAL(rgl, {.name = "rgl",
+                            .summary = "an RGL measured material, evaluated and sampled through its own warp",
+                            .keys = {"file"},
+                            .formats = {{.description = "RGL measured material (tensor_file, Dupuy & Jakob 2018)",
+                                         .extensions = {".bsdf"},
+                                         .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
+                                           constexpr char magic[12] = {'t', 'e', 'n', 's', 'o', 'r', '_', 'f', 'i', 'l', 'e', '\0'};
+                                           return head.size() >= sizeof magic && std::memcmp(head.data(), magic, sizeof magic) == 0;
+                                         }}},
+                            .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                              return std::make_shared<RglBrdf>(p.existingPath("file"));
+                            }});
 
 }  // namespace btf

@@ -6,15 +6,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "btf/core/error.h"
 #include "btf/core/fast_atan.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
+#include "btf/io/image.h"
+#include "btf/io/merl_exr_stack.h"
+#include "btf/material/registry.h"
 #include "cosine_sampling.h"
 #include "merl_resolution.h"
 #include "table_coordinates.h"
+#include "table_params.h"
 
 namespace btf {
 namespace {
@@ -198,5 +203,42 @@ MerlTable tabulate(const Material& material) {
   });
   return table;
 }
+
+namespace {
+
+// A MERL-layout table in either file form: the .binary MERL writes, or `btf convert`'s EXR stack.
+MerlTable readMerlLayoutTable(const std::filesystem::path& path) {
+  if (path.extension() == ".exr") return exrStackToMerl(path, readImageStack(path));
+  return readMerl(path);
+}
+
+// The .binary header: int32 dims 90, 90, 180 (theta_h, theta_d, phi_d).
+bool isMerlBinary(std::span<const unsigned char> head, std::uintmax_t) {
+  const std::int32_t dims[3] = {MerlTable::kThetaHalfRes, MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes};
+  return head.size() >= sizeof dims && std::memcmp(head.data(), dims, sizeof dims) == 0;
+}
+
+// OpenEXR's magic number, 20000630 little-endian.
+bool isExr(std::span<const unsigned char> head, std::uintmax_t) {
+  return head.size() >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01;
+}
+
+}  // namespace
+
+BTF_REGISTER_MATERIAL(merl, {.name = "merl",
+                             .summary = "a measured isotropic BRDF table in MERL's layout",
+                             .keys = {"file", "lookup"},
+                             .formats = {{.description = "MERL binary (isotropic BRDF table)",
+                                          .extensions = {".binary"},
+                                          .sniff = isMerlBinary},
+                                         {.description = "EXR stack of MERL half/diff slices (btf convert)",
+                                          .extensions = {".exr"},
+                                          .sniff = isExr}},
+                             .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                               const TableLookup lookup = tableLookupParam(p);
+                               auto table = std::make_shared<const MerlTable>(readMerlLayoutTable(p.existingPath("file")));
+                               return std::make_shared<TabulatedBrdf>(std::move(table), lookup);
+                             },
+                             .table = [](const MaterialParams& p) { return readMerlLayoutTable(p.existingPath("file")); }});
 
 }  // namespace btf

@@ -1,6 +1,8 @@
 #include "btf/material/ward.h"
 
 #include "analytic_support.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
@@ -64,5 +66,13 @@ std::string Ward::name() const {
   return "ward(kd=" + detail::formatRgb(kd_) + ", ks=" + detail::formatRgb(ks_) +
          ", alpha=(" + detail::formatFloat(alpha_x_) + "," + detail::formatFloat(alpha_y_) + "))";
 }
+
+BTF_REGISTER_MATERIAL(ward, {.name = modelFamilyName(ModelFamily::Ward),
+                             .summary = "Lambert diffuse + Ward specular (alpha, or [alpha_x, alpha_y])",
+                             .keys = {"diffuse", "specular", "alpha"},
+                             .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
+                               const glm::vec2 a = p.positivePair("alpha");
+                               return std::make_shared<Ward>(p.rgb("diffuse"), p.rgb("specular"), a.x, a.y);
+                             }});
 
 }  // namespace btf

@@ -1,7 +1,5 @@
 #include "btf/render/scene_loader.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -11,271 +9,28 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
-#include "btf/fit/fit_file.h"
 #include "btf/core/math.h"
-#include "btf/core/progress.h"
-#include "btf/io/btf_images.h"
-#include "btf/io/merl.h"
-#include "btf/fit/merl_fits.h"
-#include "btf/material/btf_material.h"
-#include "btf/material/ggx.h"
-#include "btf/material/lafortune.h"
 #include "btf/material/lambert.h"
-#include "btf/material/octree_brdf.h"
-#include "btf/material/phong.h"
-#include "btf/material/rgl_brdf.h"
-#include "btf/material/tabulated_brdf.h"
-#include "btf/material/ward.h"
+#include "btf/material/registry.h"
 #include "btf/sampling/sampler_choice.h"
+#include "json_node.h"
+#include "material_params_access.h"
+#include "scene_document_impl.h"
 
 namespace btf::render {
 namespace {
 
-using nlohmann::json;
+using detail::json;
+using detail::pointerToken;
+using Node = detail::JsonNode;
 
-// A key as a JSON pointer token (RFC 6901): "~" and "/" are escaped as "~0" and "~1".
-std::string pointerToken(const std::string& key) {
-  std::string out;
-  for (const char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
-  }
-  return out;
-}
-
-// A JSON value with where it sits in the file, so that every problem names its JSON pointer.
-class Node {
- public:
-  Node(const json& value, std::string pointer, const std::filesystem::path& file)
-      : value_(&value), pointer_(std::move(pointer)), file_(&file) {}
-
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw FileError(*file_, (pointer_.empty() ? std::string("/") : pointer_) + ": " + problem);
-  }
-  const json& value() const { return *value_; }
-  const std::string& pointer() const { return pointer_; }
-  const std::filesystem::path& file() const { return *file_; }
-
-  bool has(const std::string& key) const { return value_->is_object() && value_->contains(key); }
-  Node operator[](const std::string& key) const {
-    if (!value_->is_object()) fail("expected an object");
-    const auto it = value_->find(key);
-    if (it == value_->end()) fail("missing \"" + key + "\"");
-    return Node(*it, pointer_ + "/" + pointerToken(key), *file_);
-  }
-  Node at(std::size_t i) const { return Node((*value_)[i], pointer_ + "/" + std::to_string(i), *file_); }
-  std::size_t size() const { return value_->size(); }
-
-  // Keys that are not in `known` are errors: a misspelt key would otherwise be silently ignored.
-  void allowOnly(std::initializer_list<const char*> known) const {
-    if (!value_->is_object()) fail("expected an object");
-    for (const auto& [key, v] : value_->items()) {
-      bool ok = false;
-      for (const char* k : known) ok = ok || key == k;
-      if (!ok) {
-        std::string list;
-        for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-        Node(v, pointer_ + "/" + pointerToken(key), *file_).fail("unknown key (expected one of: " + list + ")");
-      }
-    }
-  }
-  const json::object_t& object() const {
-    if (!value_->is_object()) fail("expected an object");
-    return value_->get_ref<const json::object_t&>();
-  }
-  void requireArray() const {
-    if (!value_->is_array()) fail("expected an array");
-  }
-
-  double number() const {
-    if (!value_->is_number()) fail("expected a number, got " + std::string(value_->type_name()));
-    const double v = value_->get<double>();
-    if (!std::isfinite(v)) fail("expected a finite number");
-    return v;
-  }
-  double number(double lo, double hi, const char* range) const {
-    const double v = number();
-    if (!(v >= lo && v <= hi)) fail("expected a number " + std::string(range) + ", got " + value_->dump());
-    return v;
-  }
-  double positive() const {
-    const double v = number();
-    if (!(v > 0)) fail("expected a positive number, got " + value_->dump());
-    return v;
-  }
-  int integer(int lo, int hi) const {
-    if (!value_->is_number_integer()) fail("expected an integer, got " + value_->dump());
-    const long long v = value_->get<long long>();
-    if (v < lo || v > hi) fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + value_->dump());
-    return int(v);
-  }
-  std::string string() const {
-    if (!value_->is_string()) fail("expected a string, got " + std::string(value_->type_name()));
-    return value_->get<std::string>();
-  }
-  bool boolean() const {
-    if (!value_->is_boolean()) fail("expected true or false");
-    return value_->get<bool>();
-  }
-  glm::vec3 vec3() const {
-    if (!value_->is_array() || value_->size() != 3) fail("expected an array of 3 numbers");
-    return {float(at(0).number()), float(at(1).number()), float(at(2).number())};
-  }
-  // A colour: 3 non-negative numbers, or one number for grey.
-  Rgb rgb() const {
-    if (value_->is_number()) {
-      const float v = float(number());
-      if (v < 0) fail("a colour must not be negative");
-      return Rgb(v);
-    }
-    const glm::vec3 v = vec3();
-    if (v.x < 0 || v.y < 0 || v.z < 0) fail("a colour must not be negative");
-    return {v.x, v.y, v.z};
-  }
-  std::filesystem::path path() const {
-    const std::filesystem::path p = string();
-    if (p.empty()) fail("expected a file name");
-    return p.is_absolute() ? p : file_->parent_path() / p;
-  }
-  std::filesystem::path existingPath() const {
-    const std::filesystem::path p = path();
-    std::error_code ec;
-    if (!std::filesystem::exists(p, ec)) fail("no such file: " + p.string());
-    return p;
-  }
-
- private:
-  const json* value_;
-  std::string pointer_;
-  const std::filesystem::path* file_;
-};
-
-// alpha as one number (isotropic) or [alpha_x, alpha_y].
-glm::vec2 roughness(const Node& node) {
-  const Node a = node["alpha"];
-  if (a.value().is_array()) {
-    if (a.size() != 2) a.fail("expected one number or [alpha_x, alpha_y]");
-    return {float(a.at(0).positive()), float(a.at(1).positive())};
-  }
-  const float v = float(a.positive());
-  return {v, v};
-}
-
-struct MaterialContext {
-  const SceneLoadOptions& options;
-};
-
-std::shared_ptr<const Material> analyticOrMeasured(const Node& m, const std::string& type, const MaterialContext& context) {
-  // Constructors of the models check their own ranges; their messages get the JSON path here.
-  try {
-    if (type == "lambert") {
-      m.allowOnly({"type", "albedo", "sampler"});
-      return std::make_shared<Lambert>(m["albedo"].rgb());
-    }
-    if (type == "phong") {
-      m.allowOnly({"type", "diffuse", "specular", "exponent", "sampler"});
-      return std::make_shared<Phong>(m["diffuse"].rgb(), m["specular"].rgb(), float(m["exponent"].number(0, 1e6, "in [0, 1e6]")));
-    }
-    if (type == "ggx") {
-      m.allowOnly({"type", "diffuse", "f0", "alpha", "sampler"});
-      const glm::vec2 a = roughness(m);
-      return std::make_shared<Ggx>(m["diffuse"].rgb(), m["f0"].rgb(), a.x, a.y);
-    }
-    if (type == "ward") {
-      m.allowOnly({"type", "diffuse", "specular", "alpha", "sampler"});
-      const glm::vec2 a = roughness(m);
-      return std::make_shared<Ward>(m["diffuse"].rgb(), m["specular"].rgb(), a.x, a.y);
-    }
-    if (type == "lafortune") {
-      m.allowOnly({"type", "diffuse", "lobes", "sampler"});
-      const Node lobes = m["lobes"];
-      lobes.requireArray();
-      std::vector<LafortuneLobe> list;
-      for (std::size_t i = 0; i < lobes.size(); ++i) {
-        const Node lobe = lobes.at(i);
-        lobe.allowOnly({"rho", "c", "exponent"});
-        list.push_back({lobe["rho"].rgb(), lobe["c"].vec3(), float(lobe["exponent"].number(0, 1e6, "in [0, 1e6]"))});
-      }
-      return std::make_shared<Lafortune>(m["diffuse"].rgb(), std::move(list));
-    }
-  } catch (const FileError&) {
-    throw;
-  } catch (const Error& e) {
-    m.fail(e.what());
-  }
-  auto tableLookup = [&] {
-    TableLookup lookup = TableLookup::Interpolated;
-    if (m.has("lookup")) {
-      const std::optional<TableLookup> named = parseTableLookup(m["lookup"].string());
-      if (!named) m["lookup"].fail(std::string("expected ") + kTableLookupNames);
-      lookup = *named;
-    }
-    return lookup;
-  };
-  if (type == "merl") {
-    m.allowOnly({"type", "file", "lookup", "sampler"});
-    const TableLookup lookup = tableLookup();
-    return std::make_shared<TabulatedBrdf>(std::make_shared<const MerlTable>(readMerl(m["file"].existingPath())), lookup);
-  }
-  if (type == "octree") {  // a table written by `btf convert ... .octree` (compress/octree_table.h)
-    m.allowOnly({"type", "file", "lookup", "sampler"});
-    const TableLookup lookup = tableLookup();
-    return std::make_shared<OctreeBrdf>(std::make_shared<const OctreeTable>(readOctreeFile(m["file"].existingPath())), lookup);
-  }
-  if (type == "rgl") {
-    m.allowOnly({"type", "file", "sampler"});
-    return std::make_shared<RglBrdf>(m["file"].existingPath());
-  }
-  if (type == "fitted") {  // a model written by `btf fit` (fit/fit_file.h)
-    m.allowOnly({"type", "file", "sampler"});
-    return makeAnalyticMaterial(readFitFile(m["file"].existingPath()));
-  }
-  if (type == "merl-fit") {
-    m.allowOnly({"type", "name", "model", "fits_dir", "sampler"});
-    std::vector<std::filesystem::path> folders;
-    if (m.has("fits_dir")) folders.push_back(m["fits_dir"].existingPath());
-    else folders = context.options.fits_folders;
-    try {
-      const MerlFits fits = MerlFits::load(findMerlFitsFolder(folders));
-      const FitModel model = m.has("model") ? parseFitModel(m["model"].string()) : FitModel::Sgd;
-      return std::shared_ptr<const Material>(makeMerlFitMaterial(fits, m["name"].string(), model));
-    } catch (const FileError&) {
-      throw;
-    } catch (const Error& e) {
-      m.fail(e.what());
-    }
-  }
-  if (type == "btf") {
-    m.allowOnly({"type", "file", "material", "mapping", "uv_scale", "axis", "filter", "sampler"});
-    const std::filesystem::path file = m["file"].existingPath();
-    // "material": which material of a .btfz database (compress/vq_database.h).
-    const std::string material = m.has("material") ? m["material"].string() : std::string();
-    BtfTexelFilter filter = BtfTexelFilter::Bilinear;
-    if (m.has("filter")) {
-      const std::string f = m["filter"].string();
-      if (f == "nearest") filter = BtfTexelFilter::Nearest;
-      else if (f != "bilinear") m["filter"].fail("expected bilinear or nearest");
-    }
-    if (!material.empty() && file.extension() != ".btfz") m["material"].fail("names a material of a .btfz database only");
-    std::shared_ptr<const BtfLookup> lookup;
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) lookup = std::make_shared<BtfData>(BtfData::copyOf(BtfImageFolder::open(file)));
-    else if (file.extension() == ".btfz") lookup = std::make_shared<VqBtf>(VqBtf::read(file, material));
-    else m["file"].fail("expected a .btfz file or a BTF image folder");
-    const std::string label = file.filename().string() + (material.empty() ? "" : ":" + material);
-    return std::make_shared<BtfMaterial>(std::move(lookup), filter, "btf(" + label + ")");
-  }
-  m["type"].fail("unknown material type '" + type + "'");
-}
-
-SceneMaterial loadMaterial(const std::string& name, const Node& m, const MaterialContext& context) {
+SceneMaterial loadMaterial(const std::string& name, const Node& m, const SceneLoadOptions& options) {
   SceneMaterial out;
   out.name = name;
   const std::string type = m["type"].string();
-  out.material = analyticOrMeasured(m, type, context);
+  const MaterialParams params = MaterialParamsAccess::fromJson(m.value(), m.pointer(), m.file(), m.file().parent_path());
+  out.material = createMaterial(params, {"sampler"});
   if (type == "btf") {
     if (m.has("mapping")) {
       const std::string mapping = m["mapping"].string();
@@ -291,7 +46,7 @@ SceneMaterial loadMaterial(const std::string& name, const Node& m, const Materia
       out.planar_axis = axis[0] - 'x';
     }
   }
-  out.sampler = !context.options.sampler_override.empty() ? context.options.sampler_override
+  out.sampler = !options.sampler_override.empty() ? options.sampler_override
                 : m.has("sampler")                        ? m["sampler"].string()
                                                           : "material";
   const auto choice = parseSamplerChoice(out.sampler);
@@ -302,7 +57,7 @@ SceneMaterial loadMaterial(const std::string& name, const Node& m, const Materia
   }
   if (type == "btf" && tabulatesOneBrdf(*choice)) {
     // A BTF changes over the surface; the tabulated samplers hold one table per material.
-    if (context.options.sampler_override.empty())
+    if (options.sampler_override.empty())
       m["sampler"].fail("sampler '" + out.sampler + "' tabulates one BRDF, but a BTF varies over the surface: use material, cosine or uniform");
     out.sampler = "material";
     out.sampled = out.material;
@@ -487,22 +242,13 @@ void loadLights(const Node& list, SceneDescription& scene) {
 
 }  // namespace
 
-std::vector<std::string> sceneMaterialTypes() {
-  return {"lambert", "phong", "ggx", "ward", "lafortune", "merl", "octree", "rgl", "fitted", "merl-fit", "btf"};
+SceneDescription loadSceneDescription(const std::filesystem::path& file, const SceneLoadOptions& options) {
+  return loadSceneDescription(SceneDocument::read(file), options);
 }
 
-SceneDescription loadSceneDescription(const std::filesystem::path& file, const SceneLoadOptions& options) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) throw FileError(file, "no such scene file");
-  std::ifstream in(file);
-  if (!in) throw FileError(file, "cannot open the scene file");
-  json document;
-  try {
-    document = json::parse(in);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers beyond a double
-    throw FileError(file, std::string("malformed JSON: ") + e.what());
-  }
-  const Node root(document, "", file);
+SceneDescription loadSceneDescription(const SceneDocument& document, const SceneLoadOptions& options) {
+  const std::filesystem::path& file = document.file();
+  const Node root(document.impl().root, "", file);
   root.allowOnly({"camera", "render", "materials", "shapes", "lights", "comment"});
 
   SceneDescription scene;
@@ -532,14 +278,13 @@ SceneDescription loadSceneDescription(const std::filesystem::path& file, const S
     if (r.has("rr_min_depth")) scene.render.rr_min_depth = r["rr_min_depth"].integer(1, 1024);
   }
 
-  const MaterialContext context{options};
   std::map<std::string, int> material_index;
   if (root.has("materials"))
     for (const auto& [name, value] : root["materials"].object()) {
       const Node m(value, "/materials/" + pointerToken(name), file);
       if (name == "mtl") m.fail("the name 'mtl' is reserved (it stands for an OBJ file's own .mtl colours)");
       material_index[name] = int(scene.materials.size());
-      scene.materials.push_back(loadMaterial(name, m, context));
+      scene.materials.push_back(loadMaterial(name, m, options));
     }
   loadShapes(root["shapes"], scene, material_index);
   if (root.has("lights")) loadLights(root["lights"], scene);

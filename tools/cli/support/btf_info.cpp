@@ -11,7 +11,7 @@
 #include "btf/compress/vq_database.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/container.h"
-#include "btf_input.h"
+#include "material_input.h"
 
 namespace btf::cli {
 namespace {
@@ -153,15 +153,6 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
 }
 
 }  // namespace
-
-bool isBtfPath(const std::filesystem::path& path) {
-  // A folder named like a measured BRDF file (a mistake, say folder.binary) is reported as such by
-  // the BRDF readers ("is a directory"), not as a BTF folder without images.
-  const std::string ext = path.extension().string();
-  if (ext == ".binary" || ext == ".exr" || ext == ".bsdf") return false;
-  std::error_code ec;
-  return std::filesystem::is_directory(path, ec) || ext == ".btfz";
-}
 
 void runBtfInfo(const std::filesystem::path& path, bool json) {
   std::error_code ec;

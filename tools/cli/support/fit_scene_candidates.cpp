@@ -13,15 +13,10 @@
 #include "btf/fit/fit_file.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/octree_brdf.h"
-#include "btf_input.h"
-#include "measured_file.h"
+#include "btf/material/registry.h"
 
 namespace btf::cli {
 namespace fs = std::filesystem;
-using nlohmann::json;
-namespace {
-
-}  // namespace
 
 AnalyticFitOptions parseFitSpec(const std::string& spec) {
   AnalyticFitOptions o;
@@ -30,7 +25,7 @@ AnalyticFitOptions parseFitSpec(const std::string& spec) {
   int index = 0;
   while (std::getline(in, part, ':')) {
     if (index++ == 0) {
-      o.family = parseAnalyticFamily(part);
+      o.family = parseModelFamily(part, kFittableFamilies);
     } else if (part == "linear" || part == "log") {
       o.objective = parseFitObjective(part);
     } else if (!part.empty() && part.find_first_not_of("0123456789") == std::string::npos && part.size() < 3) {
@@ -39,7 +34,7 @@ AnalyticFitOptions parseFitSpec(const std::string& spec) {
       throw Error("fit '" + spec + "': expected family[:lobes][:linear|log], e.g. lafortune:2 or ggx:linear");
     }
   }
-  if (o.lobes != 1 && o.family != AnalyticFamily::Lafortune) throw Error("fit '" + spec + "': lobes are for lafortune");
+  if (o.lobes != 1 && o.family != ModelFamily::Lafortune) throw Error("fit '" + spec + "': lobes are for lafortune");
   if (o.lobes < 1 || o.lobes > 3) throw Error("fit '" + spec + "': lafortune takes 1 to 3 lobes");
   return o;
 }
@@ -47,8 +42,8 @@ AnalyticFitOptions parseFitSpec(const std::string& spec) {
 namespace {
 
 std::string fitLabel(const AnalyticFitOptions& o) {
-  std::string label = std::string("fit ") + analyticFamilyName(o.family);
-  if (o.family == AnalyticFamily::Lafortune) label += " " + std::to_string(o.lobes) + (o.lobes == 1 ? " lobe" : " lobes");
+  std::string label = std::string("fit ") + modelFamilyName(o.family);
+  if (o.family == ModelFamily::Lafortune) label += " " + std::to_string(o.lobes) + (o.lobes == 1 ? " lobe" : " lobes");
   return label + (o.objective == FitObjective::Linear ? " (linear)" : " (log)");
 }
 
@@ -65,8 +60,8 @@ std::string number(double v) {
   return text;
 }
 
-BtfTexelFilter filterOf(const json& entry) {
-  return entry.contains("filter") && entry["filter"] == "nearest" ? BtfTexelFilter::Nearest : BtfTexelFilter::Bilinear;
+BtfTexelFilter filterOf(const MaterialParams& entry) {
+  return entry.has("filter") && entry.string("filter") == "nearest" ? BtfTexelFilter::Nearest : BtfTexelFilter::Bilinear;
 }
 
 }  // namespace
@@ -87,10 +82,10 @@ std::uint64_t storedBytes(const fs::path& path) {
   return ec ? 0 : std::uint64_t(size);
 }
 
-std::vector<MaterialCandidate> makeCandidates(const std::string& name, const json& entry, const fs::path& file,
+std::vector<MaterialCandidate> makeCandidates(const std::string& name, const MaterialParams& entry, const fs::path& file,
                                               std::shared_ptr<const Material> material, const fs::path& work,
                                               const FitSceneSettings& settings) {
-  const std::string type = entry.value("type", "");
+  const std::string type = entry.type();
   const bool is_btf = type == "btf";
   std::vector<MaterialCandidate> out;
 
@@ -99,15 +94,13 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
   std::shared_ptr<const MerlTable> table;
   std::shared_ptr<const BtfSource> btf_source;
   std::vector<MeasuredReflectance> mean_texel;
+  MaterialParams data = entry;  // the entry as a material alone, without the scene's own keys
+  data.erase("sampler").erase("mapping").erase("uv_scale").erase("axis");
   if (is_btf) {
-    // One material of a .btfz database is named by the entry; anything else opens as `btf` reads it.
-    if (entry.contains("material") && entry["material"].is_string())
-      btf_source = std::make_shared<const VqBtf>(VqBtf::read(file, entry["material"].get<std::string>()));
-    else
-      btf_source = openBtfInput(file).source;
+    btf_source = createBtf(data);
     mean_texel = texelMeasurements(btfTexel(*btf_source, std::nullopt));
   } else {
-    table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
+    table = std::make_shared<const MerlTable>(createTable(data));
   }
 
   for (const std::string& spec : settings.fits) {
@@ -120,7 +113,7 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
       c.file = work / (fileStem(name, spec) + ".fit.json");
       writeFitFile(c.file, fit, file.string() + (is_btf ? " (mean texel)" : ""));
       c.material = fit.material;
-      c.entry = {{"type", "fitted"}, {"file", c.file.string()}};
+      c.entry = MaterialParams("fitted").set("file", c.file.string());
       c.note = "rel_rmse " + number(fit.report.rel_rmse) + " to the " + (is_btf ? "texel" : "table") + (fit.report.converged ? "" : ", did not converge");
     } catch (const Error& e) {
       c.note = e.what();
@@ -138,7 +131,7 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
       c.file = work / (fileStem(name, "t" + number(t)) + ".octree");
       writeOctreeFile(c.file, *octree);
       c.material = std::make_shared<OctreeBrdf>(octree, TableLookup::Interpolated);
-      c.entry = {{"type", "octree"}, {"file", c.file.string()}, {"lookup", "interpolated"}};
+      c.entry = MaterialParams("octree").set("file", c.file.string()).set("lookup", "interpolated");
       c.note = "rel_rmse " + number(tableRelRmse(octree->expand(), *table)) + " to the table";
       c.bytes = storedBytes(c.file);
       out.push_back(std::move(c));
@@ -156,10 +149,9 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const jso
       c.file = work / (fileStem(name, "eps" + number(eps)) + ".btfz");
       vq->write(c.file);
       c.material = std::make_shared<BtfMaterial>(vq, filterOf(entry));
-      c.entry = is_btf ? entry : json{{"type", "btf"}};
-      c.entry["file"] = c.file.string();
-      c.entry.erase("sampler");
-      c.entry.erase("material");  // the new file holds this material alone
+      c.entry = is_btf ? entry : MaterialParams("btf");
+      c.entry.setOrigin({}, {});  // its file is c.file, named from the current directory
+      c.entry.set("file", c.file.string()).erase("sampler").erase("material");  // the new file holds this material alone
       c.bytes = storedBytes(c.file);
     } catch (const Error& e) {
       c.note = e.what();

@@ -6,8 +6,6 @@
 // drops its texture) and re-compressed from its own data.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -16,6 +14,7 @@
 
 #include "btf/fit/analytic_fit.h"
 #include "btf/material/material.h"
+#include "btf/material/material_params.h"
 
 namespace btf::cli {
 
@@ -31,7 +30,7 @@ struct MaterialCandidate {
   std::uint64_t bytes = 0;  // of the material file(s) as stored
   std::filesystem::path file;  // the file written (empty for "full": the scene's own)
   std::shared_ptr<const Material> material;
-  nlohmann::json entry;  // the scene entry naming `file` ("full": the scene's own entry)
+  MaterialParams entry;  // the scene entry naming `file` ("full": the scene's own entry)
   std::string note;      // e.g. the fit's table rel_rmse, or why a candidate was left out
 };
 
@@ -46,12 +45,12 @@ bool reducible(const std::string& scene_type);
 // Bytes of a material file, or of all files in a folder (an image-folder BTF).
 std::uint64_t storedBytes(const std::filesystem::path& path);
 
-// The candidates for a scene material: `entry` is its JSON as written in the scene, `file` the
-// path it names (resolved), `material` the loaded material, `work` a folder for the files. The
+// The candidates for a scene material: `entry` is its parameter set as the scene holds it, `file`
+// the path it names (resolved), `material` the loaded material, `work` a folder for the files. The
 // full material comes last; the others in the order of the settings. Candidates that fail to build
 // (a fit that throws, say) are returned with no material and the reason in `note`. Progress is
 // reported by the fits and the compressions themselves.
-std::vector<MaterialCandidate> makeCandidates(const std::string& name, const nlohmann::json& entry,
+std::vector<MaterialCandidate> makeCandidates(const std::string& name, const MaterialParams& entry,
                                               const std::filesystem::path& file,
                                               std::shared_ptr<const Material> material,
                                               const std::filesystem::path& work, const FitSceneSettings& settings);

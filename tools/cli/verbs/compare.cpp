@@ -15,7 +15,7 @@
 #include "btf/io/btf_quality.h"
 #include "btf/io/image.h"
 #include "btf/render/image_metrics.h"
-#include "btf_input.h"
+#include "material_input.h"
 #include "commands.h"
 
 namespace btf::cli {

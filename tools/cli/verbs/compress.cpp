@@ -14,7 +14,7 @@
 #include "btf/core/error.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_quality.h"
-#include "btf_input.h"
+#include "material_input.h"
 #include "commands.h"
 
 namespace btf::cli {
@@ -50,7 +50,7 @@ std::vector<BtfInput> openInputs(const std::vector<std::string>& paths) {
   std::vector<BtfInput> inputs;
   for (const std::string& path : paths) {
     inputs.push_back(openBtfInput(path));
-    if (inputs.back().kind == BtfInputKind::Compressed)
+    if (inputs.back().compressed)
       throw FileError(path, "is already compressed (.btfz); decompress it first, compress the original, or join "
                             "compressed files with `btf merge`");
   }

@@ -1,6 +1,6 @@
 // `btf convert IN OUT`: between the MERL-layout table formats. MERL .binary <-> EXR stack of
-// half/diff slices (layout in merl_exr_stack.h); an RGL .bsdf material or a fit converts to either
-// by tabulating it into the MERL layout; any of them converts to an octree table (.octree,
+// half/diff slices (layout in btf/io/merl_exr_stack.h); any other BRDF the registry opens (an RGL
+// .bsdf, a fit, a merl-fit spec) converts to either by tabulating it into the MERL layout; any of them converts to an octree table (.octree,
 // compress/octree_table.h) with --tolerance, and an octree back to a table.
 #include <algorithm>
 #include <cmath>
@@ -12,9 +12,10 @@
 #include "btf/compress/octree_table.h"
 #include "btf/core/error.h"
 #include "btf/fit/analytic_fit.h"
+#include "btf/io/image.h"
+#include "btf/io/merl_exr_stack.h"
+#include "btf/material/registry.h"
 #include "commands.h"
-#include "measured_file.h"
-#include "merl_exr_stack.h"
 
 namespace btf::cli {
 namespace {
@@ -39,13 +40,35 @@ double largestRelativeError(const MerlTable& table, const MerlTable& stored) {
   return worst;
 }
 
+// What convert writes, by the output's extension.
+enum class TableOutput { MerlBinary, ExrStack, Octree };
+
+TableOutput tableOutputOf(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext == ".binary") return TableOutput::MerlBinary;
+  if (ext == ".exr") return TableOutput::ExrStack;
+  if (ext == ".octree") return TableOutput::Octree;
+  if (ext == ".bsdf") throw FileError(path, "convert cannot write .bsdf files (RGL tensor_file is read-only here)");
+  if (ext == ".json") throw FileError(path, "convert does not write fits; btf fit does");
+  throw FileError(path, "convert writes .binary (MERL), .exr (a stack of MERL half/diff slices) or .octree");
+}
+
+std::string describe(TableOutput output) {
+  switch (output) {
+    case TableOutput::MerlBinary: return "MERL binary (isotropic BRDF table)";
+    case TableOutput::ExrStack: return "EXR stack of MERL half/diff slices (btf convert)";
+    case TableOutput::Octree: return "octree table (MERL layout, btf convert --tolerance)";
+  }
+  return {};
+}
+
 void writeOctree(const ConvertOptions& o, const MerlTable& table) {
   const OctreeTable octree = OctreeTable::build(table, o.tolerance);
   writeOctreeFile(o.out, octree);
   const MerlTable stored = octree.expand();
   const double full_bytes = double(sizeof(std::int32_t) * 3 + table.values.size() * sizeof(double));
   const auto bytes = std::uintmax_t(std::filesystem::file_size(o.out));
-  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(MeasuredFormat::Octree).c_str());
+  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(TableOutput::Octree).c_str());
   std::printf("  tolerance   %g (every cell within tolerance x |stored value|, per channel)\n", o.tolerance);
   std::printf("  tree        %zu nodes, %zu leaves (of %zu cells)\n", octree.nodes().size(), octree.leaves().size(),
               MerlTable::kEntriesPerChannel);
@@ -56,17 +79,17 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
 }
 
 void runConvert(const ConvertOptions& o) {
-  const MeasuredFormat from = measuredFormatOf(o.in);
-  const MeasuredFormat to = measuredFormatOf(o.out);
-  if (to == MeasuredFormat::RglTensor) throw FileError(o.out, "convert cannot write .bsdf files (RGL tensor_file is read-only here)");
-  if (to == MeasuredFormat::FittedModel) throw FileError(o.out, "convert does not write fits; btf fit does");
-  if (from == to && to != MeasuredFormat::Octree)  // an octree may be rebuilt at another tolerance
+  const TableOutput to = tableOutputOf(o.out);
+  const IdentifiedMaterial from = identifyMaterial(o.in);
+  const bool same = from.format && !from.format->extensions.empty() &&
+                    from.format->extensions.front() == std::filesystem::path(o.out).extension();
+  if (same && to != TableOutput::Octree)  // an octree may be rebuilt at another tolerance
     throw FileError(o.out, "has the same format as " + o.in + "; convert changes the format");
-  if (o.tolerance_given && to != MeasuredFormat::Octree)
+  if (o.tolerance_given && to != TableOutput::Octree)
     throw Error("--tolerance applies to an .octree output only, not to " + o.out);
-  const MerlTable table = loadMeasuredTable(o.in);
-  if (to == MeasuredFormat::Octree) return writeOctree(o, table);
-  if (to == MeasuredFormat::ExrStack) writeImageStack(o.out, merlToExrStack(table));
+  const MerlTable table = materialTable(from);
+  if (to == TableOutput::Octree) return writeOctree(o, table);
+  if (to == TableOutput::ExrStack) writeImageStack(o.out, merlToExrStack(table));
   else writeMerl(o.out, table);
   std::printf("wrote %s (%s)\n", o.out.c_str(), describe(to).c_str());
 }
@@ -80,7 +103,7 @@ void registerConvertCommand(CLI::App& app) {
       "float of phi_d x theta_d with f in 1/sr; unmeasured samples stay negative), -> octree (.octree, lossless at tolerance "
       "0), and from an RGL .bsdf or a btf fit .json by tabulating it");
   auto o = std::make_shared<ConvertOptions>();
-  cmd->add_option("IN", o->in, "Input (.binary, .exr, .octree, .bsdf or .json)")->required();
+  cmd->add_option("IN", o->in, "Input: any BRDF the registry opens (.binary, .exr, .octree, .bsdf, a fit .json, merl-fit:MODEL:NAME)")->required();
   cmd->add_option("OUT", o->out, "Output (.binary, .exr or .octree), written atomically")->required();
   cmd->add_option_function<double>(
          "--tolerance",

@@ -10,7 +10,7 @@
 #include "btf/core/math.h"
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
-#include "measured_file.h"
+#include "material_input.h"
 
 namespace btf::cli {
 namespace {
@@ -21,23 +21,15 @@ struct EvalOptions {
   std::string file;
   double theta_i = 0, phi_i = 0, theta_o = 0, phi_o = 0;
   std::vector<double> half_diff;  // theta_h, theta_d, phi_d
-  TableLookup lookup = TableLookup::Interpolated;
-  bool lookup_given = false;
+  std::optional<TableLookup> lookup;
   bool json = false;
 };
 
 float radians(double degrees) { return float(degrees * double(kPi) / 180.0); }
 
 void runEval(const EvalOptions& o) {
-  const MeasuredFormat format = measuredFormatOf(o.file);  // reject an unknown extension before reading
-  if (format == MeasuredFormat::RglTensor && o.lookup_given)
-    throw Error("--lookup does not apply to " + o.file +
-                ": an RGL .bsdf file is evaluated through its own parameterization (convert it to a MERL table "
-                "with `btf convert` to choose a table lookup)");
-  if (format == MeasuredFormat::FittedModel && o.lookup_given)
-    throw Error("--lookup does not apply to " + o.file + ": a fitted model is evaluated by its formula");
-  const std::unique_ptr<Material> material = loadMeasuredMaterial(o.file, o.lookup);
-  const Material& brdf = *material;
+  const BrdfInput input = openBrdfInput(o.file, o.lookup);
+  const Material& brdf = *input.brdf;
   glm::vec3 wi, wo;
   if (!o.half_diff.empty()) {
     HalfDiff hd;
@@ -52,9 +44,7 @@ void runEval(const EvalOptions& o) {
     wo = sphericalDirection(radians(o.theta_o), radians(o.phi_o));
   }
   const Rgb f = brdf.eval(wi, wo);
-  const char* lookup = format == MeasuredFormat::RglTensor     ? "rgl parameterization"
-                       : format == MeasuredFormat::FittedModel ? "analytic"
-                                                               : tableLookupName(o.lookup);
+  const char* lookup = input.evaluation;
   const float deg = 180.0f / kPi;
   if (o.json) {
     nlohmann::json out{{"file", o.file}, {"lookup", lookup}};
@@ -93,14 +83,7 @@ void registerEvalCommand(CLI::App& app) {
   cmd->add_option("--half-diff", o->half_diff, "Rusinkiewicz angles THETA_H THETA_D PHI_D instead (phi_h = 0)")
       ->expected(3)
       ->excludes(ti)->excludes(pi)->excludes(to)->excludes(po);
-  cmd->add_option_function<std::string>(
-         "--lookup",
-         [o](const std::string& name) {
-           o->lookup = parseLookup(name);
-           o->lookup_given = true;
-         },
-         "Table lookup of a MERL table: interpolated (default), nearest, or truncated (MERL's own reader); not for an RGL .bsdf file")
-      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
+  addLookupOption(*cmd, o->lookup, "Table lookup of a MERL-layout table (not of an RGL .bsdf or a model)");
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { runEval(*o); });
 }

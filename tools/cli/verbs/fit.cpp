@@ -24,9 +24,8 @@
 #include "btf/material/albedo.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/tabulated_brdf.h"
-#include "btf_input.h"
+#include "material_input.h"
 #include "commands.h"
-#include "measured_file.h"
 
 namespace btf::cli {
 namespace {
@@ -49,8 +48,8 @@ std::string rgbText(const Rgb& c) {
 
 std::string parameterText(const AnalyticParameters& p) {
   std::string text = "diffuse " + rgbText(p.diffuse);
-  if (p.family == AnalyticFamily::Ggx) text += ", f0 " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
-  if (p.family == AnalyticFamily::Ward) text += ", specular " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Ggx) text += ", f0 " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Ward) text += ", specular " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
   for (const LafortuneLobe& l : p.lobes) {
     char lobe[160];
     std::snprintf(lobe, sizeof lobe, "\n    lobe rho %s, c (%.4g, %.4g, %.4g), n %.4g", rgbText(l.rho).c_str(), l.c.x, l.c.y, l.c.z,
@@ -74,7 +73,8 @@ struct FitData {
 
 FitData loadFitData(const FitCommandOptions& o) {
   FitData d;
-  if (isBtfPath(o.in)) {
+  const IdentifiedMaterial material = identifyMaterial(o.in);
+  if (isBtf(material)) {
     const BtfInput input = openBtfInput(o.in);
     std::optional<glm::ivec2> texel;
     if (!o.texel.empty()) {
@@ -94,8 +94,8 @@ FitData loadFitData(const FitCommandOptions& o) {
     return d;
   }
   if (!o.texel.empty()) throw FileError(o.in, "--texel is for BTFs (an image folder or a .btfz); this is a table");
-  if (measuredFormatOf(o.in) == MeasuredFormat::FittedModel) throw FileError(o.in, "is a fitted model already; fit a measured table");
-  d.table = std::make_shared<const MerlTable>(loadMeasuredTable(o.in));
+  if (material.type->name == "fitted") throw FileError(o.in, "is a fitted model already; fit a measured table");
+  d.table = std::make_shared<const MerlTable>(materialTable(material));
   d.data = std::make_shared<TabulatedBrdf>(d.table, TableLookup::Interpolated);
   d.description = o.in;
   return d;
@@ -103,7 +103,7 @@ FitData loadFitData(const FitCommandOptions& o) {
 
 void runFit(const FitCommandOptions& o) {
   AnalyticFitOptions options;
-  options.family = parseAnalyticFamily(o.model);
+  options.family = parseModelFamily(o.model, kFittableFamilies);
   options.lobes = o.lobes;
   options.per_channel = o.per_channel;
   options.starts = o.starts;

@@ -29,7 +29,6 @@
 // with PNG previews, <stem>-error.png).
 #include <tbb/global_control.h>
 
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -54,12 +53,10 @@
 #include "fit_scene_measure.h"
 #include "fit_scene_report.h"
 #include "gnuplot_charts.h"
-#include "merl_fit_report.h"
 
 namespace btf::cli {
 namespace {
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 struct FitSceneOptions {
   std::string scene, output;
@@ -74,20 +71,6 @@ struct FitSceneOptions {
   bool samplers = true;
   std::string measure = "image";
 };
-
-std::string resolveFrom(const fs::path& folder, const std::string& file) {
-  const fs::path p(file);
-  return (p.is_absolute() ? p : folder / p).lexically_normal().string();
-}
-
-// A path of the original scene rewritten for the lean scene's folder: absolute paths stay, relative
-// ones are made relative to the new folder.
-void rebase(json& node, const char* key, const fs::path& from, const fs::path& to) {
-  if (!node.is_object() || !node.contains(key) || !node[key].is_string()) return;
-  const fs::path p(node[key].get<std::string>());
-  if (p.is_absolute()) return;
-  node[key] = fs::absolute(from / p).lexically_normal().lexically_relative(fs::absolute(to).lexically_normal()).string();
-}
 
 
 void runFitScene(const FitSceneOptions& o) {
@@ -108,15 +91,8 @@ void runFitScene(const FitSceneOptions& o) {
   std::optional<tbb::global_control> limit;
   if (o.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
 
-  render::SceneLoadOptions load;
-  load.fits_folders = datagen::defaultFitsFolders();
-  const render::SceneDescription description = render::loadSceneDescription(scene_file, load);
-  json raw;
-  {
-    std::ifstream in(scene_file);
-    raw = json::parse(in);  // the loader has read it already
-  }
-  const fs::path scene_dir = scene_file.parent_path().empty() ? fs::path(".") : scene_file.parent_path();
+  render::SceneDocument document = render::SceneDocument::read(scene_file);
+  const render::SceneDescription description = render::loadSceneDescription(document);
 
   SceneRenderer render;
   render.settings.max_depth = description.render.max_depth;
@@ -148,14 +124,13 @@ void runFitScene(const FitSceneOptions& o) {
   for (std::size_t k = 0; k < description.materials.size(); ++k) {
     MaterialResult r;
     r.name = description.materials[k].name;
-    const json& materials = raw["materials"];
-    if (!materials.is_object() || !materials.contains(r.name)) {
+    if (!document.hasMaterial(r.name)) {
       r.skipped = "a Lambert from a mesh's material library";
       results.push_back(std::move(r));
       continue;
     }
-    const json& entry = materials[r.name];
-    r.type = entry.value("type", "");
+    const MaterialParams entry = document.material(r.name);
+    r.type = entry.type();
     if (!reducible(r.type)) {
       r.skipped = r.type + ": an analytic model already";
       results.push_back(std::move(r));
@@ -163,7 +138,7 @@ void runFitScene(const FitSceneOptions& o) {
     }
     std::printf("\n%s (%s):\n", r.name.c_str(), r.type.c_str());
     std::fflush(stdout);
-    const fs::path file = resolveFrom(scene_dir, entry["file"].get<std::string>());
+    const fs::path file = entry.path("file").lexically_normal();
     try {
       r.candidates = makeCandidates(r.name, entry, file, description.materials[k].material, work, settings);
     } catch (const Error& e) {
@@ -291,15 +266,6 @@ void runFitScene(const FitSceneOptions& o) {
   // The lean scene file and its materials, staged in `work` and moved into place together.
   const fs::path staged = work / "chosen";
   fs::create_directories(staged);
-  json lean_json = raw;
-  for (auto& [name, m] : lean_json["materials"].items()) {
-    rebase(m, "file", scene_dir, out_dir);
-    rebase(m, "fits_dir", scene_dir, out_dir);
-  }
-  if (lean_json.contains("shapes"))
-    for (json& s : lean_json["shapes"]) rebase(s, "file", scene_dir, out_dir);
-  if (lean_json.contains("lights"))
-    for (json& l : lean_json["lights"]) rebase(l, "file", scene_dir, out_dir);
   std::uint64_t full_total = 0, lean_total = 0;
   for (std::size_t k = 0; k < results.size(); ++k) {
     const MaterialResult& r = results[k];
@@ -307,20 +273,21 @@ void runFitScene(const FitSceneOptions& o) {
     const MaterialCandidate& c = r.candidates[std::size_t(r.chosen)];
     full_total += r.candidates.back().bytes;
     lean_total += c.bytes;
-    json entry = lean_json["materials"][r.name];
+    MaterialParams entry = document.material(r.name);
     if (c.kind != "full") {
       fs::copy_file(c.file, staged / c.file.filename(), fs::copy_options::overwrite_existing);
       entry = c.entry;
-      entry["file"] = (fs::path(stem + "-materials") / c.file.filename()).string();
+      entry.setOrigin({}, {});  // named from the current directory: where the file will be
+      entry.set("file", (materials_dir / c.file.filename()).string());
     }
-    entry["sampler"] = lean.materials[k].sampler;
-    lean_json["materials"][r.name] = entry;
+    entry.set("sampler", lean.materials[k].sampler);
+    document.setMaterial(r.name, entry);
   }
-  lean_json["comment"] = "btf fit-scene " + o.scene + " --budget " + fixed(o.budget, 6) + ": each measured material replaced by the "
-                         "smallest representation whose rendered relmse in this scene is within the budget";
+  document.setComment("btf fit-scene " + o.scene + " --budget " + fixed(o.budget, 6) + ": each measured material replaced by "
+                      "the smallest representation whose rendered relmse in this scene is within the budget");
   fs::remove_all(materials_dir, ec);
   fs::rename(staged, materials_dir);
-  writeFileAtomically(output, [&](std::ofstream& out) { out << lean_json.dump(2) << "\n"; });
+  document.write(output);
 
   // The lean scene as a whole, against the reference (common random numbers again).
   const render::RenderResult lean_render = render.result(withCosineSampling(lean), spp, o.seed);

@@ -22,8 +22,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
 #include "merl_fit_report.h"
-#include "btf_input.h"
-#include "measured_file.h"
+#include "material_input.h"
 
 namespace btf::cli {
 namespace {
@@ -67,7 +66,7 @@ nlohmann::json albedoJson(const Material& material) {
 
 // An RGL .bsdf: every field of the tensor_file, the material's resolution and description, and
 // its albedo evaluated through its own parameterization.
-void runRglInfo(const std::string& file, bool json) {
+void runRglInfo(const std::string& file, const std::string& format, bool json) {
   const TensorFile tensor = readTensorFile(file);
   const RglBrdf material(tensor);
   const nlohmann::json albedo = albedoJson(material);
@@ -78,7 +77,7 @@ void runRglInfo(const std::string& file, bool json) {
     for (const TensorField& f : tensor.fields)
       fields.push_back({{"name", f.name}, {"dtype", std::string(dtypeName(f.dtype))}, {"shape", f.shape}});
     std::cout << nlohmann::json{{"file", file},
-                                {"format", describe(MeasuredFormat::RglTensor)},
+                                {"format", format},
                                 {"version", std::to_string(tensor.version_major) + "." + std::to_string(tensor.version_minor)},
                                 {"description", material.description()},
                                 {"resolution", material.resolution()},
@@ -91,7 +90,7 @@ void runRglInfo(const std::string& file, bool json) {
     return;
   }
   std::printf("%s\n", file.c_str());
-  std::printf("  format      %s, version %d.%d\n", describe(MeasuredFormat::RglTensor).c_str(), tensor.version_major,
+  std::printf("  format      %s, version %d.%d\n", format.c_str(), tensor.version_major,
               tensor.version_minor);
   std::printf("  description %s\n", material.description().c_str());
   std::printf("  resolution  %d x %d luminance/RGB per incidence, %d x %d VNDF, isotropic, RGB\n", material.resolution(),
@@ -112,23 +111,59 @@ struct InfoOptions {
   std::string file;
   bool json = false;
   std::string fits_of;
-  TableLookup lookup = TableLookup::Interpolated;
-  bool lookup_given = false;
+  std::optional<TableLookup> lookup;
+  bool types = false;
 };
 
-void runInfo(const InfoOptions& o) {
-  const std::string& file = o.file;
-  const bool json = o.json;
-  if (o.lookup_given && (isBtfPath(file) || measuredFormatOf(file) == MeasuredFormat::RglTensor))
-    throw Error("--lookup does not apply to " + file + ": it chooses how a MERL-layout table is read between its " +
-                "cells, and this file is " + (isBtfPath(file) ? "a BTF" : "an RGL .bsdf with its own parameterization"));
-  if (isBtfPath(file)) {
-    runBtfInfo(file, json);
+// --types: what the registry opens, for a user choosing a scene's "type" or a file to give a verb.
+void listMaterialTypes(bool json) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const MaterialType* t : materialTypes()) {
+    nlohmann::json formats = nlohmann::json::array();
+    for (const MaterialFileFormat& f : t->formats)
+      formats.push_back({{"description", f.description}, {"extensions", f.extensions}, {"folder", f.folder}});
+    out.push_back({{"type", t->name}, {"summary", t->summary}, {"keys", t->keys}, {"spec_keys", t->spec_keys},
+                   {"formats", formats}});
+  }
+  if (json) {
+    std::cout << out.dump(2) << "\n";
     return;
   }
-  const MeasuredFormat format = measuredFormatOf(file);
-  if (format == MeasuredFormat::RglTensor) return runRglInfo(file, json);
-  auto table = std::make_shared<const MerlTable>(loadMeasuredTable(file));
+  for (const auto& t : out) {
+    std::printf("%-18s %s\n", t["type"].get<std::string>().c_str(), t["summary"].get<std::string>().c_str());
+    std::string keys;
+    for (const auto& k : t["keys"]) keys += (keys.empty() ? "" : ", ") + k.get<std::string>();
+    std::printf("%-18s keys: %s\n", "", keys.empty() ? "(none)" : keys.c_str());
+    if (!t["spec_keys"].empty()) {
+      std::string spec = t["type"].get<std::string>();
+      for (const auto& k : t["spec_keys"]) spec += ":" + k.get<std::string>();
+      std::printf("%-18s spec: %s\n", "", spec.c_str());
+    }
+    for (const auto& f : t["formats"]) {
+      std::string where = f["folder"].get<bool>() ? "a folder" : "";
+      for (const auto& e : f["extensions"]) where += (where.empty() ? "" : ", ") + e.get<std::string>();
+      std::printf("%-18s file: %s (%s)\n", "", f["description"].get<std::string>().c_str(), where.c_str());
+    }
+  }
+}
+
+void runInfo(const InfoOptions& o) {
+  if (o.types) return listMaterialTypes(o.json);
+  if (o.file.empty()) throw Error("info: give a material (a file, folder or spec), or --types");
+  const std::string& file = o.file;
+  const bool json = o.json;
+  const IdentifiedMaterial material = identifyMaterial(file);
+  const bool btf = isBtf(material), rgl = material.type->name == "rgl";
+  if (o.lookup && (btf || rgl))
+    throw Error("--lookup does not apply to " + file + ": it chooses how a MERL-layout table is read between its " +
+                "cells, and this file is " + (btf ? "a BTF" : "an RGL .bsdf with its own parameterization"));
+  if (btf) {
+    runBtfInfo(material.params.path("file"), json);
+    return;
+  }
+  if (rgl) return runRglInfo(file, material.description, json);
+  const std::string& format = material.description;
+  auto table = std::make_shared<const MerlTable>(materialTable(material));
   const ChannelStats stats = measuredStats(*table);
   const std::size_t total = MerlTable::kEntriesPerChannel;
   const std::size_t unmeasured = total - stats.measured;
@@ -137,17 +172,18 @@ void runInfo(const InfoOptions& o) {
   // The lookups answer different questions on near-mirror tables: interpolation follows a peak
   // between samples, truncation (MERL's own reader) gives each sample's value to the whole cell
   // above it; docs/results.md gives the size of the difference on real measured data.
-  const TabulatedBrdf brdf(table, o.lookup);
-  const char* lookup_name = tableLookupName(o.lookup);
+  const TableLookup lookup = o.lookup.value_or(TableLookup::Interpolated);
+  const TabulatedBrdf brdf(table, lookup);
+  const char* lookup_name = tableLookupName(lookup);
   const nlohmann::json albedo = albedoJson(brdf);
   const std::optional<MerlFitComparison> fits = datagen::compareFitsOfFile(file, o.fits_of);
   const std::optional<OctreeTable> octree =
-      format == MeasuredFormat::Octree ? std::optional<OctreeTable>(readOctreeFile(file)) : std::nullopt;
+      material.type->name == "octree" ? std::optional<OctreeTable>(readOctreeFile(file)) : std::nullopt;
 
   if (json) {
     std::cout << nlohmann::json{
                      {"file", file},
-                     {"format", describe(format)},
+                     {"format", format},
                      {"dims", {MerlTable::kThetaHalfRes, MerlTable::kThetaDiffRes, MerlTable::kPhiDiffRes}},
                      {"samples", total},
                      {"unmeasured", {{"count", unmeasured}, {"percent", percent}}},
@@ -165,9 +201,9 @@ void runInfo(const InfoOptions& o) {
     return;
   }
   std::printf("%s\n", file.c_str());
-  std::printf("  format      %s\n", describe(format).c_str());
-  if (format == MeasuredFormat::FittedModel)  // shown tabulated below, like any table
-    std::printf("  model       %s\n", loadMeasuredMaterial(file, o.lookup)->name().c_str());
+  std::printf("  format      %s\n", format.c_str());
+  if (!material.type->table)  // a model (a fit, a merl-fit spec): shown tabulated below, like any table
+    std::printf("  model       %s\n", createMaterial(material.params)->name().c_str());
   if (octree)
     std::printf("  octree      %zu nodes, %zu leaves, tolerance %g, %ju bytes on disk\n", octree->nodes().size(),
                 octree->leaves().size(), octree->tolerance(), std::uintmax_t(std::filesystem::file_size(file)));
@@ -191,17 +227,13 @@ void registerInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Facts about a measured material: format, dims or fields, value ranges, "
                                          "unmeasured samples, albedo at theta_o = 0, 30, 60, 75 deg");
   auto o = std::make_shared<InfoOptions>();
-  cmd->add_option("FILE", o->file, "Measured material (.binary MERL, .exr from btf convert, .bsdf RGL, .json fit, .octree), BTF image folder or .btfz")->required();
+  cmd->add_option("FILE", o->file,
+                  "A material: a file (.binary MERL, .exr from btf convert, .bsdf RGL, .json fit, .octree, .btfz), a "
+                  "BTF image folder, or a spec (merl-fit:MODEL:NAME)");
+  cmd->add_flag("--types", o->types, "List the material types (a scene's \"type\"), their keys, specs and file formats");
   cmd->add_flag("--json", o->json, "Machine-readable output");
-  cmd->add_option_function<std::string>(
-         "--lookup",
-         [o](const std::string& name) {
-           o->lookup = parseLookup(name);
-           o->lookup_given = true;
-         },
-         "How the albedo reads a MERL table: interpolated (default), nearest, or truncated (MERL's own reader, "
-         "which reads near-mirror tables higher)")
-      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
+  addLookupOption(*cmd, o->lookup,
+                  "How the albedo reads a MERL-layout table (truncation reads near-mirror tables higher)");
   cmd->add_option("--fits-of", o->fits_of,
                   "Compare with the published fits (SGD, ABC, Lafortune) of this MERL material; by default a file "
                   "named after a MERL material (gold-metallic-paint.binary) is compared with its fits");

@@ -1,4 +1,5 @@
 // `btf plot FILE -o out.png`: a labelled half/diff slice and a rendered sphere, side by side.
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,7 +10,7 @@
 #include "btf/material/tabulated_brdf.h"
 #include "commands.h"
 #include "figure_canvas.h"
-#include "measured_file.h"
+#include "material_input.h"
 #include "plot_figures.h"
 #include "text_labels.h"
 
@@ -26,7 +27,7 @@ struct PlotOptions {
   float light_theta = 45.0f;
   float light_phi = 120.0f;
   float exposure = 0.0f;
-  TableLookup lookup = TableLookup::Interpolated;
+  std::optional<TableLookup> lookup;  // the table types' default when not given
 };
 
 constexpr int kFont = 15;            // label font size in pixels
@@ -80,11 +81,11 @@ void drawColorBar(Image& canvas, int x0, int y0, int size, const SliceFigure& sl
 }
 
 void runPlot(const PlotOptions& o) {
-  measuredFormatOf(o.file);
+  (void)identifyMaterial(o.file);  // an unknown input is named before a bad output name
   if (std::filesystem::path(o.output).extension() != ".png")
     throw FileError(o.output, "plot writes PNG images: give the output a .png name");
-  const std::unique_ptr<Material> material = loadMeasuredMaterial(o.file, o.lookup);
-  const Material& brdf = *material;
+  const BrdfInput input = openBrdfInput(o.file, o.lookup);
+  const Material& brdf = *input.brdf;
 
   const int size = o.size;
   const int slice_x = kMarginLeft;
@@ -126,10 +127,7 @@ void registerPlotCommand(CLI::App& app) {
   cmd->add_option("--light-phi", o->light_phi, "Light azimuth in the image plane, from +x (right) towards up (deg)")
       ->check(CLI::Range(-360.0f, 360.0f))->capture_default_str();
   cmd->add_option("--exposure", o->exposure, "Sphere exposure in stops")->check(CLI::Range(-20.0f, 20.0f))->capture_default_str();
-  cmd->add_option_function<std::string>(
-         "--lookup", [o](const std::string& name) { o->lookup = parseLookup(name); },
-         "Table lookup: interpolated (default), nearest, or truncated (MERL's own reader)")
-      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
+  addLookupOption(*cmd, o->lookup, "Table lookup of a MERL-layout table");
   cmd->callback([o] { plot_command::runPlot(*o); });
 }
 

@@ -16,7 +16,6 @@
 #include "btf/render/scene_loader.h"
 #include "btf/sampling/sampler_choice.h"
 #include "commands.h"
-#include "merl_fit_report.h"
 
 namespace btf::cli {
 namespace {
@@ -56,7 +55,6 @@ void runRender(const RenderOptions& o) {
 
   render::SceneLoadOptions load;
   load.sampler_override = o.sampler;
-  load.fits_folders = datagen::defaultFitsFolders();
   render::SceneDescription description = render::loadSceneDescription(o.scene, load);
   render::RenderSettings settings;
   settings.spp = o.spp.value_or(description.render.spp);

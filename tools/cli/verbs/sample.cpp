@@ -15,7 +15,7 @@
 #include "btf/core/math.h"
 #include "btf/sampling/chi2.h"
 #include "commands.h"
-#include "measured_file.h"
+#include "material_input.h"
 #include "sample_figure.h"
 #include "btf/sampling/sampler_choice.h"
 #include "sampling_measures.h"
@@ -47,9 +47,7 @@ void runSample(const SampleOptions& o) {
     throw Error("--theta-o must be in [0, 90) degrees (got " + std::to_string(o.theta_o) + ")");
   if (std::filesystem::path(o.output).extension() != ".png")
     throw FileError(o.output, "sample writes PNG images: give the output a .png name");
-  measuredFormatOf(o.file);
-
-  std::shared_ptr<const Material> material = loadMeasuredMaterial(o.file, TableLookup::Interpolated);
+  std::shared_ptr<const Material> material = openMaterial(o.file);
   SamplerOptions sampler_options;
   sampler_options.epsilon = o.epsilon;
   sampler_options.threshold = o.threshold;

@@ -28,6 +28,7 @@
 // (only its direction matters in this normalization of the model).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -41,23 +42,21 @@
 #include "btf/io/merl.h"
 #include "btf/material/lafortune.h"
 #include "btf/material/material.h"
+#include "btf/material/model_family.h"
 
 namespace btf {
 
-enum class AnalyticFamily { Lafortune, Ggx, Ward };
+// The families the fitter knows (btf/material/model_family.h names them).
+inline constexpr std::array<ModelFamily, 3> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward};
 // The residuals minimized (see above): log-compressed and robust, or linear (the measure itself).
 enum class FitObjective { Log, Linear };
 
-// "lafortune", "ggx", "ward".
-const char* analyticFamilyName(AnalyticFamily family);
-// Inverse of analyticFamilyName; throws btf::Error naming the choices.
-AnalyticFamily parseAnalyticFamily(std::string_view text);
 // "log", "linear", and the inverse (throws btf::Error naming the choices).
 const char* fitObjectiveName(FitObjective objective);
 FitObjective parseFitObjective(std::string_view text);
 
 struct AnalyticFitOptions {
-  AnalyticFamily family = AnalyticFamily::Ggx;
+  ModelFamily family = ModelFamily::Ggx;
   int lobes = 1;             // Lafortune: 1 to 3
   bool per_channel = false;  // Lafortune: each channel its own lobe shapes (3 x lobes lobes in all)
   int starts = 6;            // initial guesses, spread over the shape parameters (>= 1)
@@ -67,7 +66,7 @@ struct AnalyticFitOptions {
 
 // The fitted parameters; which are used depends on the family.
 struct AnalyticParameters {
-  AnalyticFamily family = AnalyticFamily::Ggx;
+  ModelFamily family = ModelFamily::Ggx;
   Rgb diffuse;                        // kd, every family
   Rgb specular;                       // f0 (ggx) or ks (ward)
   float alpha = 0;                    // ggx, ward

@@ -5,9 +5,6 @@
 //   lafortune1_ngan2005_merl.csv   one-lobe Lafortune (Ngan et al. 2005): 86 of the MERL names and
 //                                  14 materials of Ngan's larger set that MERL never released
 // A name resolves if it is in any table or is an SGD `other_name` (e.g. "metallic-gold").
-//
-// Layering note: this reader builds Materials (material/sgd.h, abc.h, lafortune.h), so it sits
-// above material/ even though it lives in io/.
 #pragma once
 
 #include <array>
@@ -20,17 +17,14 @@
 #include "btf/core/rgb.h"
 #include "btf/material/abc.h"
 #include "btf/material/material.h"
+#include "btf/material/model_family.h"
 #include "btf/material/sgd.h"
 
 namespace btf {
 
-enum class FitModel { Sgd, Abc, Lafortune };
-inline constexpr std::array<FitModel, 3> kFitModels = {FitModel::Sgd, FitModel::Abc, FitModel::Lafortune};
-
-// "sgd", "abc", "lafortune".
-const char* fitModelName(FitModel model);
-// Inverse of fitModelName; throws btf::Error naming the choices.
-FitModel parseFitModel(std::string_view text);
+// The families with published fits (btf/material/model_family.h names them).
+inline constexpr std::array<ModelFamily, 3> kPublishedFitFamilies = {ModelFamily::Sgd, ModelFamily::Abc,
+                                                                     ModelFamily::Lafortune};
 
 inline constexpr const char* kSgdFitsFile = "sgd_bagher2012_merl.csv";
 inline constexpr const char* kAbcFitsFile = "abc_low2012_merl.csv";
@@ -77,8 +71,8 @@ class MerlFits {
   // The table name for a name or SGD other_name. Throws btf::Error for an unknown name, with up to
   // three close names ("did you mean ...?").
   std::string resolve(std::string_view name) const;
-  // Models with a fit of the material (any resolvable name), in kFitModels order.
-  std::vector<FitModel> modelsFor(std::string_view name) const;
+  // Models with a fit of the material (any resolvable name), in kPublishedFitFamilies order.
+  std::vector<ModelFamily> modelsFor(std::string_view name) const;
 
   // nullptr when the table lacks the (canonical) name.
   const SgdFit* findSgd(std::string_view canonical_name) const;
@@ -94,21 +88,30 @@ class MerlFits {
 // The material of one fit: Sgd, Abc, or Lafortune(rho_d, {rho_s, (cxy, cxy, cz), n}). Throws
 // btf::Error for an unknown name (with suggestions) and for a model whose table lacks the material
 // (naming the models that have it).
-std::unique_ptr<Material> makeMerlFitMaterial(const MerlFits& fits, std::string_view name, FitModel model);
+std::unique_ptr<Material> makeMerlFitMaterial(const MerlFits& fits, std::string_view name, ModelFamily model);
 
 // The first candidate folder holding all three tables. Throws btf::Error listing every candidate
 // and what each lacks. Empty paths are skipped.
 std::filesystem::path findMerlFitsFolder(const std::vector<std::filesystem::path>& candidates);
+// Where libbtf looks for the tables when no folder is named: $BTF_FITS_DIR when set, the shared data
+// folder of the build, then the copy installed with the library (share/libbtf/fits beside its lib
+// folder, found from libbtf.so's own location, so that a moved install still works).
+std::vector<std::filesystem::path> defaultMerlFitsFolders();
+// MerlFits::load(findMerlFitsFolder(...)) of `folder` when not empty, else of the default folders.
+MerlFits loadMerlFits(const std::filesystem::path& folder = {});
+
+// The material type "merl-fit" ({"type": "merl-fit", "name": "alum-bronze", "model": "sgd",
+// "fits_dir": optional folder}; spec merl-fit:MODEL:NAME) is registered by this reader.
 
 // --- Where fits of one material disagree -----------------------------------------------------
 struct FitAlbedos {
-  FitModel model;
+  ModelFamily model;
   std::vector<Rgb> albedo;  // directional albedo at each comparison angle
 };
 struct MerlFitComparison {
   std::string name;                // canonical
   std::vector<float> theta_o_deg;  // the comparison angles
-  std::vector<FitAlbedos> fits;    // every model with a fit, in kFitModels order
+  std::vector<FitAlbedos> fits;    // every model with a fit, in kPublishedFitFamilies order
   // max over angles of (max - min) / max across models of the mean-RGB albedo; 0 with one model.
   double spread = 0;
   float spread_theta_o_deg = 0;  // the angle where the spread is largest

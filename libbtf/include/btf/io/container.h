@@ -81,6 +81,12 @@ std::uint64_t containerTableBytes(std::span<const ContainerSection> sections);
 // Reads and verifies every section. Throws FileError as described above.
 std::vector<ContainerSection> readContainer(const std::filesystem::path& path);
 
+// The "format" of a container's JSON header ("libbtf-vq", "libbtf-octree", ...) read from the
+// first bytes of a file, for recognising a file by its content: empty when the bytes do not start
+// with the container's magic or hold no header section's "format" (the header is the first
+// section and stored raw, so a few KiB of a file hold it).
+std::string containerFormatOf(std::span<const unsigned char> head);
+
 // The section called `name`; throws FileError(path, "has no section '<name>'") if there is none.
 const ContainerSection& requireSection(std::span<const ContainerSection> sections, std::string_view name,
                                        const std::filesystem::path& path);

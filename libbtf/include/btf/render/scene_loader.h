@@ -27,13 +27,12 @@
 //   ]
 // }
 //
-// Materials: lambert (albedo), phong (diffuse, specular, exponent), ggx (diffuse, f0, alpha or
-// [alpha_x, alpha_y]), ward (diffuse, specular, alpha or [ax, ay]), lafortune (diffuse, lobes:
-// [{rho, c, exponent}]), merl (.binary, lookup), rgl (.bsdf), merl-fit (name, model, fits_dir),
-// fitted (a `btf fit` file), octree (.octree, lookup), btf (a .btfz file or an image folder;
-// mapping uv | planar | box, uv_scale, axis for planar, filter bilinear | nearest). Each takes "sampler": material | cosine | uniform | tabulated |
-// dp-cdf | quadtree, and an octree also octree-bound (a BTF varies over the surface, so only its
-// own sampler and the warps apply).
+// Materials: each entry is the parameter set of a registered material type (btf/material/
+// registry.h builds it; `btf info --types` lists the types and their keys): lambert, phong, ggx,
+// ward, lafortune, merl, rgl, octree, fitted, merl-fit, btf (a .btfz file or an image folder; the
+// scene reads its mapping uv | planar | box, uv_scale and axis for planar). Each entry also takes
+// "sampler": material | cosine | uniform | tabulated | dp-cdf | quadtree, and an octree also
+// octree-bound (a BTF varies over the surface, so only its own sampler and the warps apply).
 // Shapes: meshes from OBJ (with .mtl: "material": "mtl" gives every part a Lambert of its Kd and an
 // emission of its Ke; "part_materials" overrides parts and "skip_parts" leaves them out, by their
 // .mtl material name first, else their group name) and PLY
@@ -48,21 +47,18 @@
 #include <vector>
 
 #include "btf/render/scene.h"
+#include "btf/render/scene_document.h"
 
 namespace btf::render {
 
 struct SceneLoadOptions {
   // Replaces every material's "sampler" when not empty (the command line's --sampler).
   std::string sampler_override;
-  // Where merl-fit materials look for the fit tables when the scene names no fits_dir.
-  std::vector<std::filesystem::path> fits_folders;
 };
 
 // Reads and checks a scene file. Throws FileError naming the scene file, the JSON path and the
 // problem; errors of the files it names (meshes, materials, maps) name those files.
 SceneDescription loadSceneDescription(const std::filesystem::path& file, const SceneLoadOptions& options = {});
-
-// The material names every scene accepts as "type", and the sampler names, for help texts.
-std::vector<std::string> sceneMaterialTypes();
+SceneDescription loadSceneDescription(const SceneDocument& document, const SceneLoadOptions& options = {});
 
 }  // namespace btf::render

@@ -1,0 +1,58 @@
+#include "material_input.h"
+
+#include <algorithm>
+
+#include "btf/core/error.h"
+
+namespace btf::cli {
+
+bool isBtf(const IdentifiedMaterial& material) { return isBtfType(*material.type); }
+
+BtfInput openBtfInput(const std::string& path_or_spec, const std::string& database_material) {
+  OpenOptions options;
+  options.database_material = database_material;
+  BtfInput input{identifyMaterial(path_or_spec, options), nullptr, "", false};
+  input.source = materialBtf(input.material);
+  input.description = input.material.description;
+  if (isBtf(input.material)) {
+    std::error_code ec;
+    input.compressed = !std::filesystem::is_directory(input.material.params.path("file"), ec);
+  } else {
+    input.description += " as a one-texel BTF at 81 x 81 directions";
+  }
+  return input;
+}
+
+BrdfInput openBrdfInput(const std::string& path_or_spec, std::optional<TableLookup> lookup) {
+  OpenOptions options;
+  options.lookup = lookup;
+  BrdfInput input{identifyMaterial(path_or_spec, options), nullptr, ""};
+  const MaterialType& type = *input.material.type;
+  const bool table = std::find(type.keys.begin(), type.keys.end(), "lookup") != type.keys.end();
+  if (type.name == "rgl") {
+    if (lookup)
+      throw Error("--lookup does not apply to " + path_or_spec +
+                  ": an RGL .bsdf file is evaluated through its own parameterization (convert it to a MERL table "
+                  "with `btf convert` to choose a table lookup)");
+    input.evaluation = "rgl parameterization";
+  } else if (isBtf(input.material)) {
+    if (lookup) throw Error("--lookup does not apply to " + path_or_spec + ": a BTF is looked up by its own texels");
+    input.evaluation = "btf texels";
+  } else if (!table) {
+    if (lookup) throw Error("--lookup does not apply to " + path_or_spec + ": a fitted model is evaluated by its formula");
+    input.evaluation = "analytic";
+  } else {
+    input.evaluation = tableLookupName(lookup.value_or(TableLookup::Interpolated));
+  }
+  input.brdf = createMaterial(input.material.params);
+  return input;
+}
+
+void addLookupOption(CLI::App& cmd, std::optional<TableLookup>& lookup, const std::string& help) {
+  cmd.add_option_function<std::string>(
+         "--lookup", [&lookup](const std::string& name) { lookup = parseTableLookup(name); },
+         help + ": interpolated (default), nearest, or truncated (MERL's own reader)")
+      ->check(CLI::IsMember({"interpolated", "nearest", "truncated"}));
+}
+
+}  // namespace btf::cli
