@@ -5,21 +5,22 @@
 
 #include <cstdio>
 #include <exception>
-#include <optional>
 #include <iostream>
+#include <optional>
 
+#include "acquisition_response.h"
 #include "btf/core/error.h"
-#include "btf/core/terminal.h"
 #include "btf/core/math.h"
+#include "btf/core/terminal.h"
+#include "btf/io/atomic_file.h"
 #include "btf/io/merl.h"
 #include "btf/material/albedo.h"
 #include "btf/material/registry.h"
 #include "btf/material/tabulated_brdf.h"
-#include "acquisition_response.h"
 #include "btf_command.h"
-#include "scene_command.h"
 #include "merl_fit_report.h"
 #include "presets.h"
+#include "scene_command.h"
 #include "table_artifacts.h"
 
 namespace btf::datagen {
@@ -241,6 +242,7 @@ int main(int argc, char** argv) {
       ->expected(4);
   app.add_flag("--json", o.json, "Machine-readable output");
   btf::installTerminalHooks();
+  btf::removeTemporariesOnSignals();  // an interrupted write leaves no partial file
   try {
     app.parse(argc, argv);
     if (btf_command->parsed()) btf::datagen::runBtfCommand(btf_options);

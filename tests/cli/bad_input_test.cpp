@@ -9,6 +9,7 @@
 #include "btf/io/image.h"
 #include "btf/io/merl.h"
 #include "cli_test_support.h"
+#include "support/raw_image_writer.h"
 
 namespace btf::test {
 namespace {
@@ -82,7 +83,7 @@ fs::path makeBadInput(const BadInput& bad, const fs::path& dir) {
   if (bad.kind == "exr_nan") {
     std::vector<StackLayer> layers = constantStack(0.25f);
     layers[45].image.at(7, 3, 1) = std::numeric_limits<float>::quiet_NaN();
-    writeImageStack(path, layers);
+    writeRawImageStack(path, layers);
   }
   return path;
 }

@@ -1,6 +1,9 @@
 // Helpers of the command-line tests: run the real `btf` and `btf-datagen`, parse their JSON.
 #pragma once
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -17,6 +20,14 @@ inline CommandResult runBtf(const std::vector<std::string>& args) { return runCo
 inline CommandResult runDatagen(const std::vector<std::string>& args) { return runCommand(BTF_DATAGEN_PATH, args); }
 
 // The JSON document in a command's output (stdout and stderr are merged; warnings may precede it).
+// A clean failure: a non-zero exit that is no crash, with a message holding each of `parts` (the
+// input's name, the problem).
+inline void expectFailure(const CommandResult& r, const std::vector<std::string>& parts) {
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_LT(r.exit_code, 128) << "crashed: " << r.output;
+  for (const std::string& part : parts) EXPECT_THAT(r.output, testing::HasSubstr(part));
+}
+
 inline nlohmann::json parseJsonOutput(const CommandResult& result) {
   const std::size_t start = result.output.find_first_of("{[");
   if (start == std::string::npos) throw std::runtime_error("no JSON in output: " + result.output);

@@ -10,6 +10,7 @@
 #include "btf/io/btf_quality.h"
 #include "btf/io/image.h"
 #include "cli_test_support.h"
+#include "support/raw_image_writer.h"
 
 namespace btf::test {
 namespace {
@@ -125,7 +126,7 @@ TEST(Compare, NanPixelIsAnErrorNamingTheFileAndThePixel) {
   Image bad = shifted();
   bad.at(1, 2, 0) = std::numeric_limits<float>::quiet_NaN();
   const std::string nan_file = (f.dir / "nan.exr").string();
-  writeImage(nan_file, bad);
+  writeRawImage(nan_file, bad);
   const CommandResult r = runBtf({"compare", f.test, nan_file});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_LT(r.exit_code, 128) << r.output;

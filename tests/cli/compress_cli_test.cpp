@@ -245,7 +245,7 @@ TEST(BenchDecode, ReportsTheFilesRatesBesideLafortuneAndRefusesBadInput) {
   };
   const std::vector<Case> cases{
       {{"bench", "decode", (dir / "missing.btfz").string()}, "missing.btfz", "no such"},
-      {{"bench", "decode", brdf.string()}, "plastic.binary", "not a .btfz"},
+      {{"bench", "decode", brdf.string()}, "plastic.binary", "not a libbtf container"},
       {{"bench", "decode", packed.string(), "--samples", "100"}, "--samples", "256"},
       {{"bench", "decode", packed.string(), "--samples", "100000000"}, "--samples", "33554432"},
       {{"bench", "decode", packed.string(), "--repeats", "0"}, "--repeats", "1"},

@@ -35,12 +35,6 @@ fs::path writeScene(const TempDir& dir, const nlohmann::json& scene, const std::
   return path;
 }
 
-void expectFailure(const CommandResult& r, const std::vector<std::string>& parts) {
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_LT(r.exit_code, 128) << "crashed: " << r.output;
-  for (const std::string& part : parts) EXPECT_NE(r.output.find(part), std::string::npos) << "'" << part << "' not in: " << r.output;
-}
-
 bool bitwiseEqual(const Image& a, const Image& b) {
   return a.width == b.width && a.height == b.height && a.channels == b.channels &&
          std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;

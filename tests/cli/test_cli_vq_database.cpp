@@ -47,12 +47,6 @@ nlohmann::json compressOk(std::vector<std::string> inputs, const fs::path& out, 
   return parseJsonOutput(r);
 }
 
-void expectFailure(const CommandResult& r, const std::vector<std::string>& parts) {
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_LT(r.exit_code, 128) << "crashed: " << r.output;
-  for (const std::string& part : parts) EXPECT_THAT(r.output, HasSubstr(part));
-}
-
 TEST(CliVqDatabase, CompressOfSeveralBrdfsListsThemInOrderWithBoundedErrors) {
   TempDir dir;
   const fs::path db = dir / "db.btfz";

@@ -18,8 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   btf::fuzz::writeFile(folder / btf::btfImageName(0, 0, format), {data, size});
   btf::fuzz::acceptingFileErrors([&] {
     const btf::BtfImageFolder btf = btf::BtfImageFolder::open(folder);
-    std::vector<btf::Rgb> values;
-    btf.loadView(0, values);
+    btf::fuzz::exerciseDecode(btf);
   });
   return 0;
 }

@@ -14,8 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   btf::fuzz::writeFile(folder / btf::kBtfSidecarName, {data, size});
   btf::fuzz::acceptingFileErrors([&] {
     const btf::BtfImageFolder btf = btf::BtfImageFolder::open(folder);
-    std::vector<btf::Rgb> values;
-    for (int view : btf.views().views()) btf.loadView(view, values);
+    btf::fuzz::exerciseDecode(btf);
   });
   return 0;
 }

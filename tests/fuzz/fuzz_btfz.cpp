@@ -14,6 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   btf::fuzz::acceptingFileErrors([&] {
     auto btf = std::make_shared<const btf::VqBtf>(btf::VqBtf::read(path));
     btf::fuzz::exerciseLookup(*btf);
+    btf::fuzz::exerciseDecode(*btf);
     btf::fuzz::acceptingFileErrors([&] { btf::fuzz::exerciseMaterial(btf::BtfMaterial(btf)); });
   });
   btf::fuzz::acceptingFileErrors([&] {

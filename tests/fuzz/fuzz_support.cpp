@@ -14,10 +14,13 @@
 #include <glm/glm.hpp>
 
 #include "btf/core/btf_directions.h"
+#include "btf/core/value_limits.h"
 #include "btf/io/btf_data.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/image.h"
 #include "btf/material/material.h"
+#include "btf/render/integrator.h"
+#include "btf/render/scene.h"
 
 namespace btf::fuzz {
 namespace fs = std::filesystem;
@@ -151,6 +154,32 @@ void exerciseLookup(const BtfLookup& btf) {
       if (one[c] != streamed[i][c]) finding("values() differs from value()");
     }
   }
+}
+
+void exerciseDecode(const BtfSource& btf) {
+  std::vector<Rgb> values;
+  for (const int view : btf.views().views()) {
+    btf.loadView(view, values);
+    for (const Rgb& v : values)
+      if (!v.isFinite() || v.minComponent() < 0.0f || v.maxComponent() > kMaxReflectance)
+        finding("a decoded value is not finite, negative or beyond kMaxReflectance");
+  }
+}
+
+void exerciseScene(const render::SceneDescription& description) {
+  for (const render::SceneMaterial& m : description.materials) exerciseMaterial(*m.material);
+  for (const render::PointLight& light : description.point_lights)
+    if (!light.intensity.isFinite()) finding("a light's intensity is not finite");
+  if (!description.environment_radiance.isFinite()) finding("the environment's radiance is not finite");
+  // A tiny render: whatever loaded renders to finite pixels.
+  render::SceneDescription tiny = description;
+  tiny.camera.width = std::min(tiny.camera.width, 4);
+  tiny.camera.height = std::min(tiny.camera.height, 4);
+  const render::Scene scene(std::move(tiny));
+  render::RenderSettings settings;
+  settings.spp = 1;
+  settings.max_depth = 3;
+  if (nonFinitePixel(render::makePathTracer()->render(scene, settings).color)) finding("a render is not finite");
 }
 
 }  // namespace btf::fuzz

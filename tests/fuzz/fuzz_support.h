@@ -14,6 +14,10 @@
 namespace btf {
 class Material;
 class BtfLookup;
+class BtfSource;
+namespace render {
+struct SceneDescription;
+}
 }  // namespace btf
 
 namespace btf::fuzz {
@@ -45,5 +49,11 @@ void exerciseMaterial(const Material& material);
 // Looks up the BTF's corners and centre for every held view and a spread of lights, one by one
 // and as a stream (values()), and aborts when the two differ or a value is not finite.
 void exerciseLookup(const BtfLookup& btf);
+// Decodes every view of the BTF and aborts on a value that is not finite, negative, or beyond
+// kMaxReflectance: what libbtf loads is what it may write (btf/core/value_limits.h).
+void exerciseDecode(const BtfSource& btf);
+// The same rule for a scene: every material's values at a spread of directions, every light's
+// radiance, and a tiny render of it, finite.
+void exerciseScene(const render::SceneDescription& scene);
 
 }  // namespace btf::fuzz

@@ -3,10 +3,12 @@
 // roughness patterns (a checker of two colours times a gradient, roughness varying along y).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <memory>
+#include <vector>
 
 #include "btf/core/btf_directions.h"
 #include "btf/io/btf_data.h"
@@ -83,6 +85,19 @@ inline double vqRgbBound(const BtfSource& decoded, double lum, float chroma_epsi
   const double m = levels == 3 ? 2.0 : 1.0;
   return kmax / std::sqrt(1.7797) * lum +
          std::sqrt(1.0986 / 1.7797) * m * chroma_epsilon * std::sqrt(1.0 + double(energy_floor) * energy_floor) + 1e-4;
+}
+
+// Asserts that two BTFs hold the same views and decode to the same values, bit for bit.
+inline void expectSameDecode(const BtfSource& a, const BtfSource& b) {
+  ASSERT_EQ(a.views().views(), b.views().views());
+  std::vector<Rgb> va, vb;
+  for (int slot = 0; slot < a.views().count(); ++slot) {
+    const int v = a.views().view(slot);
+    a.loadView(v, va);
+    b.loadView(v, vb);
+    ASSERT_EQ(va.size(), vb.size());
+    for (std::size_t i = 0; i < va.size(); ++i) ASSERT_EQ(va[i], vb[i]) << "view " << v << ", entry " << i;
+  }
 }
 
 }  // namespace btf::test

@@ -11,12 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "support/tier.h"
 #include "btf/core/error.h"
 #include "btf/core/rng.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/image.h"
+#include "support/raw_image_writer.h"
 #include "support/test_support.h"
+#include "support/tier.h"
 
 namespace btf {
 namespace {
@@ -169,7 +170,7 @@ BTF_SLOW_TEST(BtfImageFolder, SidecarScaleMultipliesPngCodes) {
   for (std::size_t i = 0; i < scaled.size(); ++i) EXPECT_FLOAT_EQ(scaled[i].g, 4.0f * plain[i].g);
 
   std::ofstream(dir / "png" / kBtfSidecarName) << R"({"value_scale": -1})";
-  EXPECT_THAT(errorOf([&] { BtfImageFolder::open(dir / "png"); }), HasSubstr("value_scale must be a finite number > 0"));
+  EXPECT_THAT(errorOf([&] { BtfImageFolder::open(dir / "png"); }), HasSubstr("value_scale must be a number in ["));
 }
 
 BTF_SLOW_TEST(BtfImageFolder, OtherNameOrderingsReadTheSame) {
@@ -243,7 +244,7 @@ BTF_SLOW_TEST(BtfImageFolder, NanOrNegativeExrValueNamesFileAndPixel) {
   Image image(kW, kH, 3, 0.25f);
   image.at(2, 1, 1) = std::nanf("");
   const fs::path path = folder / "tv075_pv015_tl000_pl000.exr";
-  writeImage(path, image);
+  test::writeRawImage(path, image);  // libbtf's writer refuses NaN
   std::string message = errorOf([&] { btf.loadView(*findBtfDirection(75, 15), values); });
   EXPECT_THAT(message, HasSubstr(path.string()));
   EXPECT_THAT(message, HasSubstr("pixel (2, 1) holds NaN"));

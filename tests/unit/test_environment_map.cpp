@@ -14,6 +14,7 @@
 #include "btf/io/image.h"
 #include "btf/render/environment_map.h"
 #include "btf/sampling/chi2.h"
+#include "support/raw_image_writer.h"
 #include "support/test_support.h"
 
 namespace {
@@ -300,7 +301,7 @@ TEST(EnvironmentMap, RejectsBadFilesWithTheFileAndTheProblem) {
   auto writeWith = [&](const std::string& name, float value) {
     Image image = constantMap(16, 48, Rgb(0.5f));
     image.at(12, 40, 1) = value;
-    btf::writeImage(dir / name, image);
+    btf::test::writeRawImage(dir / name, image);
     return dir / name;
   };
   expectFileError(writeWith("nan.exr", std::numeric_limits<float>::quiet_NaN()), "pixel (12, 40) channel 1 is NaN");

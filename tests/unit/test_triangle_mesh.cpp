@@ -600,7 +600,7 @@ TEST(TriangleMeshFiles, PlyNormalsTextureCoordinatesAndPolygons) {
 TEST(TriangleMeshFiles, MissingFile) {
   test::TempDir dir;
   expectLoadError(dir / "nothing.ply", "no such mesh file");
-  expectLoadError(dir.path(), "no such mesh file");  // a folder is not a mesh
+  expectLoadError(dir.path(), "is not a regular file");  // a folder is not a mesh
 }
 
 TEST(TriangleMeshFiles, EmptyFile) {

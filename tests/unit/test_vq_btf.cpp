@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 
 #include <nlohmann/json.hpp>
 
@@ -23,15 +23,7 @@ namespace {
 
 using btf::test::vqLuminanceBound;
 
-void expectSameDecode(const btf::BtfSource& a, const btf::BtfSource& b) {
-  std::vector<btf::Rgb> va, vb;
-  for (int v = 0; v < btf::kBtfDirectionCount; ++v) {
-    a.loadView(v, va);
-    b.loadView(v, vb);
-    ASSERT_EQ(va.size(), vb.size());
-    for (std::size_t i = 0; i < va.size(); ++i) ASSERT_EQ(va[i], vb[i]) << "view " << v << ", entry " << i;
-  }
-}
+using btf::test::expectSameDecode;
 
 const btf::BtfData& constantChromaBtf() {
   static const btf::BtfData data = btf::test::makeGgxBtf(8, 8, true);

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 
 #include "btf/compress/vq_database.h"
@@ -21,17 +21,7 @@ namespace {
 
 using btf::test::vqLuminanceBound;
 
-void expectSameDecode(const btf::BtfSource& a, const btf::BtfSource& b) {
-  ASSERT_EQ(a.views().views(), b.views().views());
-  std::vector<btf::Rgb> va, vb;
-  for (int slot = 0; slot < a.views().count(); ++slot) {
-    const int v = a.views().view(slot);
-    a.loadView(v, va);
-    b.loadView(v, vb);
-    ASSERT_EQ(va.size(), vb.size());
-    for (std::size_t i = 0; i < va.size(); ++i) ASSERT_EQ(va[i], vb[i]) << "view " << v << ", entry " << i;
-  }
-}
+using btf::test::expectSameDecode;
 
 std::string fileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

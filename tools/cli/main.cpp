@@ -4,10 +4,11 @@
 #include <cstdio>
 #include <exception>
 
+#include "bench_command.h"
 #include "btf/core/error.h"
 #include "btf/core/terminal.h"
+#include "btf/io/atomic_file.h"
 #include "btf/io/image.h"
-#include "bench_command.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
   add("Fit and select", btf::cli::registerFitSceneCommand);
   add("Experiments", btf::cli::registerBenchCommand);
   btf::installTerminalHooks();
+  btf::removeTemporariesOnSignals();  // an interrupted write leaves no partial file
   btf::decodeExrInCallingThreads();  // BTF folders are read many images at a time (btf/io/image.h)
   try {
     app.parse(argc, argv);

@@ -2,6 +2,7 @@
 // OctreeTable::fromParts checks that what decodes is one well-formed tree.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -24,6 +25,12 @@ std::uint64_t headerCount(const nlohmann::json& header, const char* key, const s
 }  // namespace
 
 void writeOctreeFile(const std::filesystem::path& path, const OctreeTable& octree) {
+  // What is written is finite: the reader refuses anything else.
+  for (const OctreeTable::Node& n : octree.nodes())
+    if (!std::isfinite(n.f_min) || !std::isfinite(n.f_max)) throw FileError(path, "not written: a node's range is not finite");
+  for (const OctreeTable::Leaf& l : octree.leaves())
+    if (!std::isfinite(l[0]) || !std::isfinite(l[1]) || !std::isfinite(l[2]))
+      throw FileError(path, "not written: a leaf value is not finite");
   nlohmann::json header;
   header["format"] = kFormat;
   header["version"] = kVersion;

@@ -13,8 +13,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include "btf/core/error.h"
+#include "btf/core/value_limits.h"
 #include "btf/io/container.h"
 #include "vq_impl.h"
 #include "vq_sections.h"
@@ -121,6 +123,9 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
     // "level1/basis<r>": the coefficient step, then the n x n basis, float32. The ring's section
     // holds the coefficients, zigzag-coded, coefficient-major (every entry's first coefficient,
     // then every entry's second...): the dropped tails become long runs of zeros for zstd.
+    // The file's only floats: what is written is finite (the reader refuses anything else).
+    if (!std::isfinite(basis.step) || !std::all_of(basis.v.begin(), basis.v.end(), [](float x) { return std::isfinite(x); }))
+      throw Error(m.name + ": the level-1 basis of ring " + std::to_string(r) + " is not finite; nothing written");
     ByteWriter bytes;
     bytes.put(basis.step);
     bytes.putAll(basis.v);
@@ -255,6 +260,13 @@ void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std:
   addVqSection(sections, SectionType::IndexStream, prefix + "top/index", packPlanar(m.top_index));
   addVqSection(sections, SectionType::Scales, prefix + "top/scale", packPlanar(m.top_scale));
   if (m.options.levels == 1) addVqSection(sections, SectionType::IndexStream, prefix + "top/chroma", packPlanar(m.top_chroma));
+  // The texel size again, beside the header's: the index streams hold width x height entries in
+  // any arrangement, so without it a header edited from 4 x 4 to 8 x 2 would decode a scrambled
+  // texture without an error.
+  ByteWriter texels;
+  texels.put(std::uint32_t(m.width));
+  texels.put(std::uint32_t(m.height));
+  addVqSection(sections, SectionType::Other, prefix + "texels", std::move(texels.bytes()));
 }
 
 // zstd's strongest levels are far slower per byte than its middle ones, paid twice (compressVq's
@@ -294,8 +306,10 @@ int vqHeaderInt(const nlohmann::json& object, const char* key, const std::filesy
 float vqHeaderFloat(const nlohmann::json& object, const char* key, const std::filesystem::path& path) {
   const auto it = object.find(key);
   if (it == object.end()) throw FileError(path, std::string("VQ header has no \"") + key + "\"");
-  if (!it->is_number() || !std::isfinite(it->get<double>()))
-    throw FileError(path, std::string("VQ header's \"") + key + "\" is " + it->dump() + ", not a finite number");
+  // Checked as the float it is stored in: 1e300 is a finite double and an infinite float.
+  if (!it->is_number() || !std::isfinite(it->get<double>()) ||
+      std::abs(it->get<double>()) > double(std::numeric_limits<float>::max()))
+    throw FileError(path, std::string("VQ header's \"") + key + "\" is " + it->dump() + ", not a finite float");
   return it->get<float>();
 }
 
@@ -323,7 +337,12 @@ void readVqOptions(const nlohmann::json& header, const std::filesystem::path& pa
   if (!(options.epsilon >= 0.0f) || !(options.epsilon < 1.0f)) throw FileError(path, "VQ header has an invalid epsilon");
   if (!(options.chroma_epsilon >= kVqMinChromaEpsilon) || !(options.chroma_epsilon <= 1.0f))
     throw FileError(path, "VQ header has an invalid chroma_epsilon");
-  if (!(options.energy_floor >= 0.0f)) throw FileError(path, "VQ header has an invalid energy_floor");
+  if (!(options.energy_floor >= 0.0f) || !(options.energy_floor <= kMaxReflectance))
+    throw FileError(path, "VQ header has an invalid energy_floor");
+  // Informative, but a header that holds it holds it right: the step its chroma_epsilon gives.
+  if (header.contains("chroma_step") && vqHeaderFloat(header, "chroma_step", path) != vqChromaStep(options.chroma_epsilon))
+    throw FileError(path, "VQ header's chroma_step " + header.at("chroma_step").dump() +
+                              " is not the step of its chroma_epsilon (an edited header?)");
 }
 
 void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, const std::filesystem::path& path) {
@@ -378,6 +397,19 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
 
 void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
                             const std::filesystem::path& path, VqBtf::Impl& m) {
+  // Files written before the section existed have none; their texel size is the header's alone.
+  const auto texels =
+      std::find_if(sections.begin(), sections.end(), [&](const ContainerSection& s) { return s.name == prefix + "texels"; });
+  if (texels != sections.end()) {
+    if (texels->data.size() != 2 * sizeof(std::uint32_t))
+      throw FileError(path, "section " + prefix + "texels is not a width and a height");
+    ByteReader in(*texels, path);
+    const auto width = in.get<std::uint32_t>(), height = in.get<std::uint32_t>();
+    if (std::int64_t(width) != m.width || std::int64_t(height) != m.height)
+      throw FileError(path, "VQ header says " + std::to_string(m.width) + " x " + std::to_string(m.height) +
+                                " texels, its sections " + std::to_string(width) + " x " + std::to_string(height) +
+                                " (an edited header?)");
+  }
   m.top_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "top/index", path), path);
   const bool derived = std::any_of(sections.begin(), sections.end(),
                                    [&](const ContainerSection& s) { return s.name == prefix + "level3/parent"; });
@@ -449,7 +481,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
   if (format != "libbtf-vq") throw FileError(path, "holds no VQ-compressed BTF");
   auto m = std::make_shared<VqBtf::Impl>();
   try {
-    const int version = header.at("format_version").get<int>();
+    const int version = vqHeaderInt(header, "format_version", path);
     if (version < 1 || version > kVqNewestSectionsVersion)
       throw FileError(path, "VQ format version " + std::to_string(version) + " is not supported (this build reads 1.." +
                                 std::to_string(kVqNewestSectionsVersion) + ")");

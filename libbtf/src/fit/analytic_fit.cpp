@@ -348,7 +348,8 @@ namespace {
 
 void checkOptions(const AnalyticFitOptions& options) {
   (void)parseModelFamily(modelFamilyName(options.family), kFittableFamilies);  // names the fittable ones
-  if (options.lobes < 1 || options.lobes > 3) throw Error("fit: lobes must be 1, 2 or 3, got " + std::to_string(options.lobes));
+  if (options.lobes < 1 || options.lobes > kMaxFitLobes)
+    throw Error("fit: lobes must be 1 to " + std::to_string(kMaxFitLobes) + ", got " + std::to_string(options.lobes));
   if (options.starts < 1) throw Error("fit: starts must be >= 1, got " + std::to_string(options.starts));
   if (options.max_iterations < 1) throw Error("fit: max_iterations must be >= 1");
   if (options.family != ModelFamily::Lafortune && (options.lobes != 1 || options.per_channel))

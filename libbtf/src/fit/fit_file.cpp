@@ -30,6 +30,7 @@ class FitReader {
     return *it;
   }
   void allowOnly(const json& object, std::initializer_list<const char*> keys, const std::string& where) const {
+    if (!object.is_object()) fail(where + ": expected an object, got " + std::string(object.type_name()));
     for (const auto& [key, value] : object.items()) {
       bool known = false;
       for (const char* k : keys) known = known || key == k;
@@ -56,6 +57,12 @@ class FitReader {
 
 void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, const std::string& source) {
   const AnalyticParameters& p = fit.parameters;
+  // What is written is finite (a fit that diverged is an error, not a file).
+  bool finite = p.diffuse.isFinite() && p.specular.isFinite() && std::isfinite(p.alpha);
+  for (const LafortuneLobe& lobe : p.lobes)
+    finite = finite && lobe.rho.isFinite() && std::isfinite(lobe.c.x) && std::isfinite(lobe.c.y) &&
+             std::isfinite(lobe.c.z) && std::isfinite(lobe.exponent);
+  if (!finite) throw FileError(path, "not written: the fitted parameters are not finite");
   json parameters = {{"diffuse", rgbJson(p.diffuse)}};
   switch (p.family) {
     case ModelFamily::Ggx:
@@ -136,6 +143,10 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
       r.allowOnly(q, {"diffuse", "lobes"}, "/parameters");
       const json& lobes = r.member(q, "lobes", "/parameters");
       if (!lobes.is_array() || lobes.empty()) r.fail("/parameters/lobes: expected an array of one or more lobes");
+      // Bounded as the fitter is: a file of 100,000 lobes would make every evaluation crawl.
+      if (lobes.size() > std::size_t(3 * kMaxFitLobes))
+        r.fail("/parameters/lobes: " + std::to_string(lobes.size()) + " lobes; a fit has at most " +
+               std::to_string(3 * kMaxFitLobes) + " (" + std::to_string(kMaxFitLobes) + " per channel)");
       for (std::size_t i = 0; i < lobes.size(); ++i) {
         const std::string where = "/parameters/lobes/" + std::to_string(i);
         r.allowOnly(lobes[i], {"rho", "c", "exponent"}, where);

@@ -1,15 +1,75 @@
 #include "btf/io/atomic_file.h"
 
+#include <dirent.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <string>
 #include <system_error>
 
 #include "btf/core/error.h"
+#include "btf/core/progress.h"
 
 namespace btf {
 namespace fs = std::filesystem;
 namespace {
+
+// The temporaries being written, in fixed storage that a signal handler can read without locks or
+// allocation: a slot is claimed by compare-and-swap, filled, then published.
+constexpr int kSlots = 64;
+constexpr std::size_t kPathBytes = 4096;
+struct Slot {
+  std::atomic<int> state{0};  // 0 free, 1 being filled or emptied, 2 a file, 3 a folder
+  char path[kPathBytes];
+};
+std::array<Slot, kSlots> slots;
+
+// Removes a folder and what is in it with system calls only (the handler's context; a temporary
+// folder holds files, no subfolders).
+void removeFolder(const char* path) {
+  if (DIR* dir = ::opendir(path)) {
+    char child[kPathBytes];
+    while (const dirent* entry = ::readdir(dir)) {
+      if (std::strcmp(entry->d_name, ".") == 0 || std::strcmp(entry->d_name, "..") == 0) continue;
+      const std::size_t a = std::strlen(path), b = std::strlen(entry->d_name);
+      if (a + 1 + b + 1 > sizeof child) continue;
+      std::memcpy(child, path, a);
+      child[a] = '/';
+      std::memcpy(child + a + 1, entry->d_name, b + 1);
+      ::unlink(child);
+    }
+    ::closedir(dir);
+  }
+  ::rmdir(path);
+}
+
+void onSignal(int signal) {
+  for (Slot& slot : slots) {
+    const int state = slot.state.load();
+    if (state == 2) ::unlink(slot.path);
+    if (state == 3) removeFolder(slot.path);
+  }
+  ::signal(signal, SIG_DFL);  // and end as the signal would have
+  ::raise(signal);
+}
+
+// ".<stem>.tmp<pid>-<n><ext>" or ".<name>.tmp<pid>-<n>" (a folder): the pid, or 0 for another name.
+long temporaryOwner(const std::string& name, const std::string& prefix, const std::string& suffix) {
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return 0;
+  const std::string middle = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  const std::size_t dash = middle.find('-');
+  if (dash == 0 || dash == std::string::npos || dash + 1 == middle.size() ||
+      middle.find_first_not_of("0123456789-") != std::string::npos || middle.find('-', dash + 1) != std::string::npos)
+    return 0;
+  return std::stol(middle.substr(0, dash));
+}
 
 fs::path temporaryPathFor(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
@@ -36,9 +96,59 @@ void requireWritableDestination(const fs::path& path) {
 
 }  // namespace
 
+TemporaryGuard::TemporaryGuard(const fs::path& path, bool folder) : slot_(-1) {
+  const std::string text = fs::absolute(path).string();
+  if (text.size() >= kPathBytes) return;  // too long to remember: left to removeStaleTemporaries
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!slots[std::size_t(i)].state.compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(slots[std::size_t(i)].path, text.c_str(), text.size() + 1);
+    slots[std::size_t(i)].state.store(folder ? 3 : 2);
+    slot_ = i;
+    return;
+  }
+}
+
+TemporaryGuard::~TemporaryGuard() {
+  if (slot_ >= 0) slots[std::size_t(slot_)].state.store(0);
+}
+
+void removeTemporariesOnSignals() {
+  for (const int signal : {SIGINT, SIGTERM}) {
+    struct sigaction action {};
+    action.sa_handler = onSignal;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(signal, &action, nullptr);
+  }
+}
+
+std::size_t removeStaleTemporaries(const fs::path& path) {
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  // Files: ".<stem>.tmp<pid>-<n><ext>"; folders (image-folder BTFs): ".<name>.tmp<pid>-<n>".
+  const std::string file_prefix = "." + path.stem().string() + ".tmp", file_suffix = path.extension().string();
+  const std::string folder_prefix = "." + path.filename().string() + ".tmp";
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    long owner = temporaryOwner(name, file_prefix, file_suffix);
+    if (owner == 0) owner = temporaryOwner(name, folder_prefix, "");
+    if (owner <= 0 || owner == long(::getpid())) continue;
+    if (::kill(pid_t(owner), 0) == 0 || errno != ESRCH) continue;  // its writer still runs
+    std::error_code ignored;
+    if (fs::remove_all(entry.path(), ignored) > 0) {
+      ++removed;
+      log(LogLevel::Warning, entry.path().string() + ": removed, a temporary that an interrupted run left");
+    }
+  }
+  return removed;
+}
+
 void writeViaTemporaryPath(const fs::path& path, const std::function<void(const fs::path&)>& write) {
   requireWritableDestination(path);
+  removeStaleTemporaries(path);
   const fs::path tmp = temporaryPathFor(path);
+  const TemporaryGuard guard(tmp, false);
   try {
     write(tmp);
     std::error_code ec;

@@ -18,6 +18,7 @@
 
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
+#include "btf/core/value_limits.h"
 #include "btf/io/atomic_file.h"
 #include "btf/io/image.h"
 #include "image_backend.h"
@@ -27,6 +28,17 @@ namespace btf {
 namespace fs = std::filesystem;
 using image_backend::PixelType;
 namespace {
+
+// The smallest value_scale: a normal float, so that code * scale keeps its precision.
+constexpr double kMinValueScale = double(std::numeric_limits<float>::min());
+
+bool validValueScale(double scale) { return scale >= kMinValueScale && scale <= double(kMaxReflectance); }
+
+std::string formatLimit(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
 
 constexpr int kImagesPerBtf = kBtfDirectionCount * kBtfDirectionCount;
 
@@ -95,10 +107,13 @@ Sidecar readSidecar(const fs::path& folder) {
   if (!doc.is_object()) throw FileError(sidecar, "expected a JSON object like {\"value_scale\": 2.5, \"transfer\": \"srgb\"}");
   Sidecar result;
   if (doc.contains("value_scale")) {
+    // Checked as the float it is stored in: 1e300 would become inf, 1e-320 zero.
     const nlohmann::json& s = doc["value_scale"];
-    if (!s.is_number() || !std::isfinite(s.get<double>()) || !(s.get<double>() > 0))
-      throw FileError(sidecar, "value_scale must be a finite number > 0, not " + s.dump());
-    result.value_scale = s.get<float>();
+    const double scale = s.is_number() ? s.get<double>() : 0.0;
+    if (!s.is_number() || !validValueScale(scale))
+      throw FileError(sidecar, "value_scale must be a number in [" + formatLimit(kMinValueScale) + ", " +
+                                   formatLimit(kMaxReflectance) + "] (the largest value an image holds), not " + s.dump());
+    result.value_scale = float(scale);
   }
   if (doc.contains("transfer")) {
     const nlohmann::json& t = doc["transfer"];
@@ -359,11 +374,13 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
     for (float& p : pixels) p = srgbDecode(p);  // 16-bit codes: rarely sRGB, not worth a table
   for (std::size_t i = 0; i < texels; ++i) {
     const Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
-    if (is_float && (!v.isFinite() || v.minComponent() < 0.0f))
+    if (is_float && (!v.isFinite() || v.minComponent() < 0.0f || v.maxComponent() > kMaxReflectance))
       throw FileError(path, "pixel (" + std::to_string(i % std::size_t(width_)) + ", " +
                                 std::to_string(i / std::size_t(width_)) + ") holds " +
-                                (v.isFinite() ? "a negative value" : "NaN or infinity") +
-                                "; BTF values are finite and >= 0");
+                                (!v.isFinite()               ? std::string("NaN or infinity")
+                                 : v.minComponent() < 0.0f ? "a negative value"
+                                                           : "the value " + formatLimit(v.maxComponent())) +
+                                "; BTF values are finite, >= 0 and <= " + formatLimit(kMaxReflectance));
     dst[i] = v;
   }
 }
@@ -505,15 +522,18 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
   if (is_png) {
     if (options.value_scale) {
       value_scale = *options.value_scale;
-      if (!std::isfinite(value_scale) || !(value_scale > 0))
-        throw Error("value_scale must be finite and > 0, not " + std::to_string(value_scale));
+      if (!validValueScale(value_scale))
+        throw Error("value_scale must be in [" + formatLimit(kMinValueScale) + ", " + formatLimit(kMaxReflectance) +
+                    "], not " + formatLimit(value_scale));
     } else {
       const float largest = findLargestValue(source);
       value_scale = largest > 0.0f ? largest : 1.0f;
     }
   }
 
+  removeStaleTemporaries(folder);
   const fs::path temporary = siblingPath(folder, "tmp");
+  const TemporaryGuard guard(temporary, true);
   std::error_code ec;
   if (!fs::create_directory(temporary, ec)) throw FileError(temporary, "cannot be created: " + ec.message());
   try {

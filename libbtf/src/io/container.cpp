@@ -213,14 +213,14 @@ std::uint64_t writeContainer(const fs::path& path, std::span<ContainerSection> s
 
 std::vector<ContainerSection> readContainer(const fs::path& path) {
   const std::vector<std::byte> file = readWholeFile(path);
-  if (file.empty()) throw FileError(path, "is empty, expected a .btfz container");
+  if (file.empty()) throw FileError(path, "is empty, expected a libbtf container (.btfz, .octree)");
   const std::uint64_t file_size = file.size();
   FileCursor cursor(file, path);
 
   // Magic: a shorter file whose bytes match the magic's start is a truncated container.
   const std::size_t magic_bytes = std::min(file.size(), kMagic.size());
   if (std::memcmp(file.data(), kMagic.data(), magic_bytes) != 0)
-    throw FileError(path, "is not a .btfz container (wrong magic bytes)");
+    throw FileError(path, "is not a libbtf container (.btfz, .octree): wrong magic bytes");
   cursor.getString(kMagic.size(), "magic bytes");
   const auto version = cursor.get<std::uint32_t>("version");
   if (version == 0) throw FileError(path, "has container version 0, which does not exist (corrupt file)");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fstream>
+#include <initializer_list>
 #include <memory>
 
 #include "btf/core/error.h"
@@ -35,6 +37,9 @@ void requireConsistent(const fs::path& path, const Image& image) {
                               std::to_string(image.height) + "x" + std::to_string(image.channels) + ")");
   if (image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
     throw FileError(path, "image data size does not match its dimensions");
+  // Every value libbtf writes is finite: an image of inf is an error, not a picture.
+  if (const std::optional<std::string> bad = nonFinitePixel(image))
+    throw FileError(path, "not written: " + *bad + " (libbtf writes finite values only)");
 }
 
 // The attributes a stack layer carries besides OpenImageIO's and OpenEXR's own bookkeeping.
@@ -79,6 +84,34 @@ void writeImage(const fs::path& path, const Image& image) {
     if (!out->write(PixelType::Float, image.pixels.data()) || !out->close())
       throw FileError(path, "cannot be written: " + out->error());
   });
+}
+
+std::optional<std::string> nonFinitePixel(const Image& image) {
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const float v = image.pixels[i];
+    if (std::isfinite(v)) continue;
+    const std::size_t channels = std::size_t(std::max(image.channels, 1)), pixel = i / channels;
+    const std::size_t width = std::size_t(std::max(image.width, 1));
+    return "pixel (" + std::to_string(pixel % width) + ", " + std::to_string(pixel / width) + ") channel " +
+           std::to_string(i % channels) + " is " + (std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf");
+  }
+  return std::nullopt;
+}
+
+std::string imageFileFormat(const fs::path& path) {
+  unsigned char head[10] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  const std::size_t n = std::size_t(in.gcount());
+  auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return n >= magic.size() && std::equal(magic.begin(), magic.end(), head);
+  };
+  if (starts({0x76, 0x2f, 0x31, 0x01})) return "openexr";
+  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return "png";
+  if (starts({0xff, 0xd8, 0xff})) return "jpeg";
+  if (starts({'I', 'I', 0x2a, 0x00}) || starts({'M', 'M', 0x00, 0x2a})) return "tiff";
+  if (starts({'#', '?'})) return "hdr";
+  return {};
 }
 
 Image readImage(const fs::path& path) {

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -64,9 +65,12 @@ std::size_t firstNonFinite(const std::vector<double>& values) {
 
 std::string nonFiniteProblem(const std::vector<double>& values, std::size_t k) {
   if (std::isfinite(values[k])) {
+    // The shortest text that reads back as the value: %g would print 1.0000001e20 as the limit.
+    char value[40];
+    const auto end = std::to_chars(value, value + sizeof value, values[k]).ptr;
     char text[120];
-    std::snprintf(text, sizeof text, "value %g beyond the range a measured table can hold (|value| <= %g)", values[k],
-                  kMerlMaxMagnitude);
+    std::snprintf(text, sizeof text, "value %.*s beyond the range a measured table can hold (|value| <= %g)",
+                  int(end - value), value, kMerlMaxMagnitude);
     return std::string(text) + " at " + describeEntry(k);
   }
   return std::string(std::isnan(values[k]) ? "NaN" : "infinite value") + " at " + describeEntry(k);

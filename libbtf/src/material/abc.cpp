@@ -30,7 +30,7 @@ double Abc::fresnelDielectric(double cos_theta, double ior) {
 }
 
 Abc::Abc(const AbcParameters& parameters, std::string label) : parameters_(parameters), label_(std::move(label)) {
-  detail::requireAlbedo("abc", "kd", parameters_.kd);
+  detail::requireDiffuseAlbedo("abc", "kd", parameters_.kd);
   detail::requireAlbedo("abc", "A", parameters_.a);
   if (!std::isfinite(parameters_.b) || !(parameters_.b > 0))
     throw Error("abc: B must be finite and > 0, got " + std::to_string(parameters_.b));

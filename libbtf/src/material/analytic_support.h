@@ -10,6 +10,7 @@
 #include "btf/core/frame.h"
 #include "btf/core/math.h"
 #include "btf/core/rgb.h"
+#include "btf/core/value_limits.h"
 #include "btf/core/warp.h"
 
 namespace btf::detail {
@@ -26,11 +27,16 @@ inline std::string formatFloat(float v) {
   return out.str();
 }
 
-// Albedos are reflectances: finite and non-negative in every channel.
-inline void requireAlbedo(const char* model, const char* parameter, const Rgb& value) {
-  if (!value.isFinite() || value.minComponent() < 0.0f)
-    throw Error(std::string(model) + ": " + parameter + " must be finite and >= 0 in every channel, got " +
-                formatRgb(value));
+// Albedos are reflectances: finite and non-negative in every channel, and at most `max`: 1 for a
+// diffuse albedo (a surface reflects no more than it receives), kMaxReflectance for the weights of
+// lobes whose normalization is the model's own.
+inline void requireAlbedo(const char* model, const char* parameter, const Rgb& value, float max = kMaxReflectance) {
+  if (!value.isFinite() || value.minComponent() < 0.0f || value.maxComponent() > max)
+    throw Error(std::string(model) + ": " + parameter + " must be finite and in [0, " + formatFloat(max) +
+                "] in every channel, got " + formatRgb(value));
+}
+inline void requireDiffuseAlbedo(const char* model, const char* parameter, const Rgb& value) {
+  requireAlbedo(model, parameter, value, 1.0f);
 }
 
 inline void requirePositive(const char* model, const char* parameter, float value) {

@@ -8,7 +8,7 @@ namespace btf {
 
 Ggx::Ggx(Rgb diffuse_albedo, Rgb f0, float alpha_x, float alpha_y)
     : kd_(diffuse_albedo), f0_(f0), alpha_x_(alpha_x), alpha_y_(alpha_y) {
-  detail::requireAlbedo("ggx", "diffuse albedo", kd_);
+  detail::requireDiffuseAlbedo("ggx", "diffuse albedo", kd_);
   detail::requireAlbedo("ggx", "f0", f0_);
   if (f0_.maxComponent() > 1.0f) throw Error("ggx: f0 must be <= 1 in every channel, got " + detail::formatRgb(f0_));
   detail::requirePositive("ggx", "alpha_x", alpha_x_);

@@ -8,7 +8,9 @@ namespace btf {
 
 Lafortune::Lafortune(Rgb diffuse_albedo, std::vector<LafortuneLobe> lobes)
     : kd_(diffuse_albedo), lobes_(std::move(lobes)) {
-  detail::requireAlbedo("lafortune", "diffuse albedo", kd_);
+  detail::requireDiffuseAlbedo("lafortune", "diffuse albedo", kd_);
+  if (lobes_.size() > kMaxLafortuneLobes)
+    throw Error("lafortune: " + std::to_string(lobes_.size()) + " lobes; at most " + std::to_string(kMaxLafortuneLobes));
   for (std::size_t i = 0; i < lobes_.size(); ++i) {
     const LafortuneLobe& lobe = lobes_[i];
     const std::string which = "lobe " + std::to_string(i);

@@ -1,14 +1,14 @@
 #include "btf/material/lambert.h"
 
 #include "analytic_support.h"
-#include "btf/material/model_family.h"
-#include "btf/material/registry.h"
 #include "btf/core/math.h"
 #include "btf/core/warp.h"
+#include "btf/material/model_family.h"
+#include "btf/material/registry.h"
 
 namespace btf {
 
-Lambert::Lambert(Rgb albedo) : albedo_(albedo) { detail::requireAlbedo("lambert", "albedo", albedo); }
+Lambert::Lambert(Rgb albedo) : albedo_(albedo) { detail::requireDiffuseAlbedo("lambert", "albedo", albedo); }
 
 Rgb Lambert::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2) const {
   if (wi.z <= 0.0f || wo.z <= 0.0f) return {};

@@ -121,9 +121,9 @@ glm::vec2 MaterialParams::positivePair(const std::string& key) const {
   const JsonNode a = impl_->node()[key];
   if (a.value().is_array()) {
     if (a.size() != 2) a.fail("expected one number or [x, y]");
-    return {float(a.at(0).positive()), float(a.at(1).positive())};
+    return {a.at(0).positiveFloat(), a.at(1).positiveFloat()};
   }
-  const float v = float(a.positive());
+  const float v = a.positiveFloat();
   return {v, v};
 }
 std::filesystem::path MaterialParams::path(const std::string& key) const { return impl_->node()[key].path(); }

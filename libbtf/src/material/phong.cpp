@@ -8,7 +8,7 @@ namespace btf {
 
 Phong::Phong(Rgb diffuse_albedo, Rgb specular_albedo, float exponent)
     : kd_(diffuse_albedo), ks_(specular_albedo), exponent_(exponent) {
-  detail::requireAlbedo("phong", "diffuse albedo", kd_);
+  detail::requireDiffuseAlbedo("phong", "diffuse albedo", kd_);
   detail::requireAlbedo("phong", "specular albedo", ks_);
   detail::requireNonNegative("phong", "exponent", exponent_);
   const float total = kd_.average() + ks_.average();

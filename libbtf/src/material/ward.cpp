@@ -8,7 +8,7 @@ namespace btf {
 
 Ward::Ward(Rgb diffuse_albedo, Rgb specular_albedo, float alpha_x, float alpha_y)
     : kd_(diffuse_albedo), ks_(specular_albedo), alpha_x_(alpha_x), alpha_y_(alpha_y) {
-  detail::requireAlbedo("ward", "diffuse albedo", kd_);
+  detail::requireDiffuseAlbedo("ward", "diffuse albedo", kd_);
   detail::requireAlbedo("ward", "specular albedo", ks_);
   detail::requirePositive("ward", "alpha_x", alpha_x_);
   detail::requirePositive("ward", "alpha_y", alpha_y_);

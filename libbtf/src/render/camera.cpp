@@ -22,6 +22,8 @@ PinholeCamera::PinholeCamera(const CameraSettings& s) : settings_(s) {
                 std::to_string(s.height));
   if (!finite(s.position) || !finite(s.look_at) || !finite(s.up)) throw Error("camera: position, look_at and up must be finite");
   const glm::vec3 view = s.look_at - s.position;
+  if (!std::isfinite(glm::length(view)) || !std::isfinite(glm::length(s.up)))
+    throw Error("camera: the position, look_at or up is too large (their distances overflow a float)");
   if (!(glm::length(view) > 0.0f)) throw Error("camera: look_at equals the position");
   forward_ = glm::normalize(view);
   const glm::vec3 side = glm::cross(forward_, s.up);

@@ -6,8 +6,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "btf/core/error.h"
 #include "btf/core/cdf1d.h"
+#include "btf/core/error.h"
+#include "btf/core/value_limits.h"
 
 namespace btf::render {
 namespace {
@@ -63,8 +64,9 @@ EnvironmentMap::EnvironmentMap(const Image& rgb, float scale, std::string source
         if (std::isinf(v)) throw FileError(source_name_, where + " is infinite");
         if (v < 0.0f) throw FileError(source_name_, where + " is negative (" + formatFloat(v) + ")");
         const float scaled = v * scale;
-        if (!std::isfinite(scaled))
-          throw FileError(source_name_, where + " overflows when multiplied by the scale " + formatFloat(scale));
+        if (!std::isfinite(scaled) || scaled > kMaxRadiance)
+          throw FileError(source_name_, where + " is " + formatFloat(v) + (scale != 1.0f ? " x scale " + formatFloat(scale) : "") +
+                                            ", beyond the largest radiance a scene may hold (" + formatFloat(kMaxRadiance) + ")");
         out[c] = scaled;
       }
     }
@@ -118,6 +120,13 @@ EnvironmentMap::EnvironmentMap(const Image& rgb, float scale, std::string source
 
 EnvironmentMap EnvironmentMap::load(const std::filesystem::path& exr, float scale) {
   requireValidScale(scale, exr.string());  // before reading a possibly large file
+  // By content: a PNG or JPEG holds display values, not radiance, whatever its name says.
+  std::error_code ec;
+  const std::string format = imageFileFormat(exr);
+  if (std::filesystem::is_regular_file(exr, ec) && format != "openexr")  // (a missing file: readImage says so)
+    throw FileError(exr, "is " + (format.empty() ? std::string("not an image libbtf reads") : "a " + format + " image") +
+                             ", not OpenEXR: an environment map holds linear radiance (convert it, e.g. oiiotool IN "
+                             "--colorconvert sRGB linear -o map.exr)");
   return EnvironmentMap(readImage(exr), scale, exr.string());
 }
 

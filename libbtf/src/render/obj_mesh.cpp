@@ -33,7 +33,12 @@ class MaterialLibraryReader : public tinyobj::MaterialReader {
                   std::map<std::string, int>* index_of, std::string* warning, std::string* error) override {
     const std::filesystem::path file = folder_ / name;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) return false;
+    if (!std::filesystem::is_regular_file(file, ec)) {
+      *warning += "the material library '" + name + "' " +
+                  (std::filesystem::exists(file, ec) ? "is not a regular file" : "was not found") + " (" + file.string() +
+                  "); its materials are grey\n";
+      return false;
+    }
     if (!read_.insert(std::filesystem::canonical(file, ec)).second) return true;
     // As many bytes as the file system says the file holds: the files of /proc say 0, and some
     // of them (/proc/kmsg) would block a read for ever.
@@ -56,7 +61,8 @@ Rgb rgbOf(const tinyobj::real_t (&c)[3]) { return {float(c[0]), float(c[1]), flo
 
 }  // namespace
 
-std::vector<TriangleMesh> readObjMeshes(const std::filesystem::path& path, std::string_view text) {
+std::vector<TriangleMesh> readObjMeshes(const std::filesystem::path& path, std::string_view text,
+                                        std::vector<std::string>& warnings) {
   std::istringstream statements(checkedObjStatements(path, text));
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -66,6 +72,11 @@ std::vector<TriangleMesh> readObjMeshes(const std::filesystem::path& path, std::
   if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &statements, &material_libraries,
                         /*triangulate=*/true, /*default_vcols_fallback=*/false))
     throw FileError(path, "cannot read the OBJ file: " + error);
+  // tinyobjloader's warnings, a line each ("material [x] not found in .mtl", ...): what the file
+  // left to defaults.
+  std::istringstream lines(warning);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) warnings.push_back(line);
 
   const std::size_t vertex_count = attrib.vertices.size() / 3;
   const std::size_t uv_count = attrib.texcoords.size() / 2;

@@ -11,6 +11,8 @@
 
 #include "btf/core/error.h"
 #include "btf/core/math.h"
+#include "btf/core/progress.h"
+#include "btf/core/value_limits.h"
 #include "btf/material/lambert.h"
 #include "btf/material/registry.h"
 #include "btf/sampling/sampler_choice.h"
@@ -71,6 +73,15 @@ SceneMaterial loadMaterial(const std::string& name, const Node& m, const SceneLo
   return out;
 }
 
+// A light's radiance or intensity: a colour within the range a render keeps finite.
+Rgb radiance(const Node& node) {
+  const Rgb v = node.rgb();
+  if (v.maxComponent() > kMaxRadiance)
+    node.fail("a radiance or intensity must be at most " + nlohmann::json(kMaxRadiance).dump() + ", got " +
+              node.value().dump());
+  return v;
+}
+
 glm::mat4 loadTransform(const Node& t) {
   t.allowOnly({"scale", "rotate", "translate"});
   glm::mat4 m(1.0f);
@@ -80,14 +91,14 @@ glm::mat4 loadTransform(const Node& t) {
     r.allowOnly({"axis", "deg"});
     const glm::vec3 axis = r["axis"].vec3();
     if (!(glm::length(axis) > 0)) r["axis"].fail("the rotation axis must not be zero");
-    m = glm::rotate(m, float(r["deg"].number()) * (kPi / 180.0f), glm::normalize(axis));
+    m = glm::rotate(m, r["deg"].floatNumber() * (kPi / 180.0f), glm::normalize(axis));
   }
   if (t.has("scale")) {
     const Node s = t["scale"];
     glm::vec3 v;
-    if (s.value().is_number()) v = glm::vec3(float(s.number()));
+    if (s.value().is_number()) v = glm::vec3(s.floatNumber());
     else v = s.vec3();
-    if (!(std::abs(v.x * v.y * v.z) > 0)) s.fail("a scale must not be zero");
+    if (!(std::abs(v.x * v.y * v.z) > 0) || !std::isfinite(v.x * v.y * v.z)) s.fail("a scale must not be zero or overflow");
     m = glm::scale(m, v);
   }
   return m;
@@ -103,7 +114,8 @@ int materialIndex(const Node& where, const std::string& name, const std::map<std
   return it->second;
 }
 
-void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string, int>& material_index) {
+void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string, int>& material_index,
+                const SceneLoadOptions& options) {
   list.requireArray();
   if (list.size() == 0) list.fail("the scene has no shape");
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -113,16 +125,34 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
     if (type == "mesh") {
       s.allowOnly({"type", "file", "material", "part_materials", "skip_parts", "transform", "shading", "crease_deg", "emission",
                    "two_sided"});
-      meshes = loadTriangleMeshes(s["file"].existingPath());
+      std::vector<std::string> warnings;
+      meshes = loadTriangleMeshes(s["file"].existingPath(), &warnings);
+      for (const std::string& w : warnings) {
+        if (options.strict) s["file"].fail(w + " (--strict)");
+        log(LogLevel::Warning, s.file().string() + ": " + s.pointer() + ": " + w);
+      }
     } else if (type == "sphere") {
       s.allowOnly({"type", "center", "radius", "rings", "material", "transform", "emission", "two_sided"});
-      meshes.push_back(makeSphere(s["center"].vec3(), float(s["radius"].positive()),
-                                  s.has("rings") ? s["rings"].integer(3, 4096) : 64, s.pointer()));
+      try {
+        meshes.push_back(makeSphere(s["center"].vec3(), s["radius"].positiveFloat(),
+                                    s.has("rings") ? s["rings"].integer(3, 4096) : 64, s.pointer()));
+      } catch (const FileError&) {
+        throw;
+      } catch (const Error& e) {
+        s.fail(e.what());
+      }
     } else if (type == "quad") {
       s.allowOnly({"type", "corner", "edge_u", "edge_v", "material", "transform", "emission", "two_sided"});
       const glm::vec3 u = s["edge_u"].vec3(), v = s["edge_v"].vec3();
-      if (!(glm::length(glm::cross(u, v)) > 0)) s.fail("the quad's edges span no area (zero-area light or surface)");
-      meshes.push_back(makeQuad(s["corner"].vec3(), u, v, s.pointer()));
+      if (!(glm::length(glm::cross(u, v)) > 0) || !std::isfinite(glm::length(glm::cross(u, v))))
+        s.fail("the quad's edges span no area, or one beyond float range (a zero-area light or surface, or edges too long)");
+      try {
+        meshes.push_back(makeQuad(s["corner"].vec3(), u, v, s.pointer()));
+      } catch (const FileError&) {
+        throw;
+      } catch (const Error& e) {
+        s.fail(e.what());
+      }
     } else {
       s["type"].fail("unknown shape type '" + type + "' (expected mesh, sphere or quad)");
     }
@@ -134,7 +164,7 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
     }();
     const float crease = s.has("crease_deg") ? float(s["crease_deg"].number(0, 180, "in [0, 180]")) : 60.0f;
     const glm::mat4 transform = s.has("transform") ? loadTransform(s["transform"]) : glm::mat4(1.0f);
-    const Rgb emission = s.has("emission") ? s["emission"].rgb() : Rgb(0.0f);
+    const Rgb emission = s.has("emission") ? radiance(s["emission"]) : Rgb(0.0f);
     const bool two_sided = s.has("two_sided") && s["two_sided"].boolean();
 
     const std::string material = s.has("material") ? s["material"].string() : std::string();
@@ -176,7 +206,11 @@ void loadShapes(const Node& list, SceneDescription& scene, std::map<std::string,
         removeInvalidTrianglesWithWarning(mesh);
         if (!mesh.triangles.empty()) computeVertexNormals(mesh, crease);
       }
-      transformMesh(mesh, transform);
+      try {
+        transformMesh(mesh, transform);
+      } catch (const Error& e) {  // the mesh's problem comes from the scene's transform
+        s["transform"].fail(e.what());
+      }
       SceneShape shape;
       shape.emission = emission;
       shape.two_sided_emission = two_sided;
@@ -218,7 +252,7 @@ void loadLights(const Node& list, SceneDescription& scene) {
     const std::string type = l["type"].string();
     if (type == "point") {
       l.allowOnly({"type", "position", "intensity"});
-      const Rgb intensity = l["intensity"].rgb();
+      const Rgb intensity = radiance(l["intensity"]);
       if (intensity.isBlack()) l["intensity"].fail("a light of zero intensity");
       scene.point_lights.push_back({l["position"].vec3(), intensity});
     } else if (type == "environment") {
@@ -231,7 +265,7 @@ void loadLights(const Node& list, SceneDescription& scene) {
         const float scale = l.has("scale") ? float(l["scale"].positive()) : 1.0f;
         scene.environment_map = std::make_shared<EnvironmentMap>(EnvironmentMap::load(l["file"].existingPath(), scale));
       } else {
-        scene.environment_radiance = l["radiance"].rgb();
+        scene.environment_radiance = radiance(l["radiance"]);
         if (scene.environment_radiance.isBlack()) l["radiance"].fail("an environment of zero radiance");
       }
     } else {
@@ -264,6 +298,13 @@ SceneDescription loadSceneDescription(const SceneDocument& document, const Scene
     if (!r.value().is_array() || r.size() != 2) r.fail("expected [width, height]");
     scene.camera.width = r.at(0).integer(1, 16384);
     scene.camera.height = r.at(1).integer(1, 16384);
+    // A render libbtf cannot read back (btf compare, an environment map) is not one to make.
+    const ImageSizeLimits limits = imageSizeLimits();
+    if (scene.camera.width > limits.max_side || scene.camera.height > limits.max_side ||
+        std::uint64_t(scene.camera.width) * std::uint64_t(scene.camera.height) > limits.max_pixels)
+      r.fail("a " + std::to_string(scene.camera.width) + " x " + std::to_string(scene.camera.height) +
+             " render is beyond the images libbtf reads back (" + std::to_string(limits.max_pixels) +
+             " pixels; btf --max-image-pixels raises it)");
   }
   try {
     PinholeCamera check(scene.camera);
@@ -286,7 +327,7 @@ SceneDescription loadSceneDescription(const SceneDocument& document, const Scene
       material_index[name] = int(scene.materials.size());
       scene.materials.push_back(loadMaterial(name, m, options));
     }
-  loadShapes(root["shapes"], scene, material_index);
+  loadShapes(root["shapes"], scene, material_index, options);
   if (root.has("lights")) loadLights(root["lights"], scene);
   return scene;
 }

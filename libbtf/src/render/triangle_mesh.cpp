@@ -61,9 +61,11 @@ std::string lowercase(std::string s) {
 
 }  // namespace
 
-std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) {
+std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path, std::vector<std::string>* warnings) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw FileError(path, "no such mesh file");
+  if (!std::filesystem::exists(path, ec)) throw FileError(path, "no such mesh file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw FileError(path, "is not a regular file (a folder, FIFO or device), not a mesh file");
   // The format by the name, before anything is read.
   const bool gzipped = lowercase(path.extension().string()) == ".gz";
   const std::string extension = lowercase((gzipped ? path.stem() : path).extension().string());
@@ -74,8 +76,13 @@ std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path) 
   if (bytes.empty()) throw FileError(path, "empty mesh file");
 
   if (extension == ".obj") {
-    std::vector<TriangleMesh> meshes = readObjMeshes(path, bytes);
+    std::vector<std::string> found;
+    std::vector<TriangleMesh> meshes = readObjMeshes(path, bytes, found);
     if (meshes.empty()) throw FileError(path, "the mesh has no faces");
+    for (const std::string& w : found) {
+      if (warnings) warnings->push_back(w);
+      else log(LogLevel::Warning, path.string() + ": " + w);
+    }
     return meshes;
   }
 

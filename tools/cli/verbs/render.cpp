@@ -29,6 +29,7 @@ struct RenderOptions {
   std::uint64_t seed = 1;
   std::string sampler;
   bool aovs = false;
+  bool strict = false;
   float exposure = 0;
   bool json = false;
   render::PhotonSettings photon;
@@ -55,6 +56,7 @@ void runRender(const RenderOptions& o) {
 
   render::SceneLoadOptions load;
   load.sampler_override = o.sampler;
+  load.strict = o.strict;
   render::SceneDescription description = render::loadSceneDescription(o.scene, load);
   render::RenderSettings settings;
   settings.spp = o.spp.value_or(description.render.spp);
@@ -68,6 +70,9 @@ void runRender(const RenderOptions& o) {
   if (o.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
   const render::Scene scene(std::move(description));
   const render::RenderResult result = integrator->render(scene, settings);
+  if (const std::optional<std::string> bad = nonFinitePixel(result.color))
+    throw FileError(o.scene, "the render is not finite, " + *bad +
+                                 " (a radiance or reflectance of the scene overflows); nothing was written");
   const auto written = render::writeRenderOutputs(result, output, o.exposure);
 
   const render::RenderStats& s = result.stats;
@@ -133,6 +138,8 @@ void registerRenderCommand(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "Seed of the pixel streams")->capture_default_str();
   cmd->add_option("--sampler", o->sampler, "Sampler of every material, replacing the scene's: " + samplerChoiceNames());
   cmd->add_flag("--aovs", o->aovs, "Also write albedo, normal, depth and sample-count images");
+  cmd->add_flag("--strict", o->strict,
+                "Make the scene's warnings errors (a mesh's missing material library, an unknown usemtl)");
   cmd->add_option("--exposure", o->exposure, "Exposure of the PNG preview in stops")
       ->check(CLI::Range(-64.0f, 64.0f))
       ->capture_default_str();

@@ -55,6 +55,10 @@ enum class FitObjective { Log, Linear };
 const char* fitObjectiveName(FitObjective objective);
 FitObjective parseFitObjective(std::string_view text);
 
+// The most Lafortune lobes a fit has: kMaxFitLobes shared shapes, or as many per channel. A fit
+// file holds at most kMaxFitLobes x 3 lobes, as the fitter writes them.
+inline constexpr int kMaxFitLobes = 3;
+
 struct AnalyticFitOptions {
   ModelFamily family = ModelFamily::Ggx;
   int lobes = 1;             // Lafortune: 1 to 3

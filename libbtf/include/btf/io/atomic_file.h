@@ -2,6 +2,7 @@
 // which is renamed over the destination only once it is complete.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -15,6 +16,29 @@ void writeFileAtomically(const std::filesystem::path& path, const std::function<
 // For writers that need a file name (OpenImageIO): calls write(temporary_path), then renames.
 void writeViaTemporaryPath(const std::filesystem::path& path,
                            const std::function<void(const std::filesystem::path& temporary)>& write);
+
+// A temporary file or folder that libbtf is writing, registered while it exists so that
+// removeTemporariesOnSignals() can remove it when the program is interrupted. Destroying the guard
+// unregisters it (it does not remove it: the writer renames or removes it first).
+class TemporaryGuard {
+ public:
+  TemporaryGuard(const std::filesystem::path& path, bool folder);
+  ~TemporaryGuard();
+  TemporaryGuard(const TemporaryGuard&) = delete;
+  TemporaryGuard& operator=(const TemporaryGuard&) = delete;
+
+ private:
+  int slot_;
+};
+
+// Installs SIGINT and SIGTERM handlers that remove the temporaries being written, then end the
+// process as the signal would have. For programs (the command line calls it at start); a library
+// user with handlers of their own leaves it out.
+void removeTemporariesOnSignals();
+
+// Temporaries beside `path` that an interrupted earlier run left (named as this library names
+// them, by a process that is gone) are removed before a new write; returns how many.
+std::size_t removeStaleTemporaries(const std::filesystem::path& path);
 
 // Throws FileError unless `path` names an existing regular file that can be opened for reading.
 void requireReadableFile(const std::filesystem::path& path);

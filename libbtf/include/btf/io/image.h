@@ -41,12 +41,20 @@ struct Image {
   float at(int x, int y, int c) const { return pixels[offset(x, y, c)]; }
 };
 
+// The first pixel with a value that is NaN or infinite, described ("pixel (x, y) channel c is
+// inf"), or nothing when every value is finite.
+std::optional<std::string> nonFinitePixel(const Image& image);
+
 // Writes by extension: .exr (float), .png (8-bit), .tif/.tiff (float), .hdr (RGBE).
 // Throws FileError for unknown extensions, unwritable destinations and encoder failures.
 void writeImage(const std::filesystem::path& path, const Image& image);
 
 // Reads any format OpenImageIO knows, converted to float (8-bit data maps to [0, 1]).
 Image readImage(const std::filesystem::path& path);
+
+// The format of an image file by its first bytes, whatever its name: "openexr", "png", "jpeg",
+// "tiff", "hdr", or empty for none of these (or an unreadable file).
+std::string imageFileFormat(const std::filesystem::path& path);
 
 // What every image reader of libbtf (readImage, readImageStack, image-folder BTFs) accepts: a
 // header claiming more is refused with a FileError before any pixel is allocated, so that a corrupt

@@ -23,6 +23,9 @@ struct LafortuneLobe {
   float exponent;  // n >= 0
 };
 
+// Every evaluation sums all lobes; a model of thousands would make a render or a table crawl.
+inline constexpr std::size_t kMaxLafortuneLobes = 64;
+
 class Lafortune final : public Material {
  public:
   // Albedos finite and >= 0, every c finite and not all zero, exponents finite and >= 0

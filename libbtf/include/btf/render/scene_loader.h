@@ -54,6 +54,9 @@ namespace btf::render {
 struct SceneLoadOptions {
   // Replaces every material's "sampler" when not empty (the command line's --sampler).
   std::string sampler_override;
+  // What a scene leaves to defaults (a mesh's missing material library, an unknown usemtl) is a
+  // warning through btf::log naming the scene entry; strict makes it a FileError.
+  bool strict = false;
 };
 
 // Reads and checks a scene file. Throws FileError naming the scene file, the JSON path and the

@@ -35,8 +35,11 @@ struct MeshCleanup {
 // Every part of an OBJ or PLY file (a .gz file is decompressed first, so `dragon.ply.gz` reads as a
 // PLY), one mesh per part (an OBJ's group or object, and material), polygons triangulated, with the normals and UVs the file has. Throws
 // FileError naming the file for a missing or unreadable file, a file with no triangle at all, or
-// an unknown format.
-std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path);
+// an unknown format. What the file leaves to defaults (an OBJ's material library that is missing
+// or a folder, a usemtl of a material no library defines) is a warning: added to `warnings` when
+// given, else logged through btf::log.
+std::vector<TriangleMesh> loadTriangleMeshes(const std::filesystem::path& path,
+                                             std::vector<std::string>* warnings = nullptr);
 
 // Drops degenerate, non-finite and out-of-range triangles (and then unused vertices' effect on
 // nothing: vertices stay), returning the counts.

@@ -110,6 +110,9 @@ class OiioReader final : public Reader {
 
 OIIO::ImageSpec specOf(const WriteSpec& w) {
   OIIO::ImageSpec spec(w.width, w.height, w.channels, toOiio(w.stored));
+  // No capture time: OpenImageIO's EXR and TIFF writers stamp the current time when DateTime is
+  // unset, and the same render must give the same file, byte for byte.
+  spec.attribute("DateTime", "");
   for (const auto& attribute : w.attributes)  // (clang 14 cannot capture a structured binding)
     std::visit([&](const auto& v) { spec.attribute(attribute.first, v); }, attribute.second);
   return spec;

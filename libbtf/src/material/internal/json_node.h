@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -97,6 +98,18 @@ class JsonNode {
     if (!(v > 0)) fail("expected a positive number, got " + value_->dump());
     return v;
   }
+  // The same, for values stored as float: checked in that type (1e300 would become inf).
+  float floatNumber() const {
+    const double v = number();
+    if (std::abs(v) > double(std::numeric_limits<float>::max()))
+      fail("the number " + value_->dump() + " is beyond the range of a float");
+    return float(v);
+  }
+  float positiveFloat() const {
+    const float v = floatNumber();
+    if (!(v > 0)) fail("expected a positive number, got " + value_->dump());
+    return v;
+  }
   int integer(int lo, int hi) const {
     if (!value_->is_number_integer()) fail("expected an integer, got " + value_->dump());
     const long long v = value_->get<long long>();
@@ -113,12 +126,12 @@ class JsonNode {
   }
   glm::vec3 vec3() const {
     if (!value_->is_array() || value_->size() != 3) fail("expected an array of 3 numbers");
-    return {float(at(0).number()), float(at(1).number()), float(at(2).number())};
+    return {at(0).floatNumber(), at(1).floatNumber(), at(2).floatNumber()};
   }
   // A colour: 3 non-negative numbers, or one number for grey.
   Rgb rgb() const {
     if (value_->is_number()) {
-      const float v = float(number());
+      const float v = floatNumber();
       if (v < 0) fail("a colour must not be negative");
       return Rgb(v);
     }
