@@ -76,9 +76,9 @@ SceneMaterial loadMaterial(const std::string& name, const Node& m, const SceneLo
 // A light's radiance or intensity: a colour within the range a render keeps finite.
 Rgb radiance(const Node& node) {
   const Rgb v = node.rgb();
+  static_assert(kMaxRadiance == 1e10f, "the message below names the bound");
   if (v.maxComponent() > kMaxRadiance)
-    node.fail("a radiance or intensity must be at most " + nlohmann::json(kMaxRadiance).dump() + ", got " +
-              node.value().dump());
+    node.fail("a radiance or intensity must be at most 1e10 (kMaxRadiance), got " + node.value().dump());
   return v;
 }
 
