@@ -73,14 +73,19 @@ struct Source {
   std::optional<MerlFitComparison> comparison;  // for a MERL fit: how all fits of it compare
 };
 
+// --merl-fit NAME --model MODEL [--fits-dir DIR] as the registry's parameter set.
+MaterialParams merlFitParams(const Options& o) {
+  MaterialParams params("merl-fit");
+  params.set("name", o.merl_fit).set("model", o.model);
+  if (!o.fits_dir.empty()) params.set("fits_dir", o.fits_dir);
+  return params;
+}
+
 Source resolveSource(const Options& o, bool compare) {
   if (!o.preset.empty()) return {o.preset, findPreset(o.preset).make(), std::nullopt};
   const MerlFits fits = loadMerlFits(o.fits_dir);
   const ModelFamily model = parseModelFamily(o.model, kPublishedFitFamilies);
-  MaterialParams params("merl-fit");
-  params.set("name", o.merl_fit).set("model", o.model);
-  if (!o.fits_dir.empty()) params.set("fits_dir", o.fits_dir);
-  std::shared_ptr<const Material> material = createMaterial(params);
+  std::shared_ptr<const Material> material = createMaterial(merlFitParams(o));
   const std::string name = fits.resolve(o.merl_fit);
   std::optional<MerlFitComparison> comparison;
   if (compare) comparison = compareMerlFits(fits, name, kFitDisagreementThreshold);
@@ -183,7 +188,7 @@ void run(Options& o) {
   if (o.preset.empty() && o.merl_fit.empty())
     throw Error("choose a material with --preset NAME (see --list-presets) or --merl-fit NAME (see --list-merl-fits)");
   if (!o.preset.empty()) findPreset(o.preset);  // fail on a typo before any work
-  else makeMerlFitMaterial(loadMerlFits(o.fits_dir), o.merl_fit, parseModelFamily(o.model, kPublishedFitFamilies));
+  else createMaterial(merlFitParams(o));
   if (o.clean) {
     o.artifacts = TableArtifacts{};
     o.falloff = 0.0f;

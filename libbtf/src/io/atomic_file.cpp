@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <mutex>
+#include <set>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -58,17 +60,17 @@ void onSignal(int signal) {
   ::raise(signal);
 }
 
-// ".<stem>.tmp<pid>-<n><ext>" or ".<name>.tmp<pid>-<n>" (a folder): the pid, or 0 for another name.
-long temporaryOwner(const std::string& name, const std::string& prefix, const std::string& suffix) {
-  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
-      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
-    return 0;
-  const std::string middle = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-  const std::size_t dash = middle.find('-');
-  if (dash == 0 || dash == std::string::npos || dash + 1 == middle.size() ||
-      middle.find_first_not_of("0123456789-") != std::string::npos || middle.find('-', dash + 1) != std::string::npos)
-    return 0;
-  return std::stol(middle.substr(0, dash));
+// The pid in a name this library gives its temporaries, ".<stem>.tmp<pid>-<n><ext>" (a file) or
+// ".<name>.tmp<pid>-<n>" (a folder), or 0 for any other name.
+long temporaryOwner(const std::string& name) {
+  const std::size_t tmp = name.rfind(".tmp");
+  if (name.empty() || name[0] != '.' || tmp == 0 || tmp == std::string::npos) return 0;
+  std::size_t at = tmp + 4;
+  const std::size_t pid_end = name.find_first_not_of("0123456789", at);
+  if (pid_end == at || pid_end == std::string::npos || name[pid_end] != '-') return 0;
+  const std::size_t n_end = name.find_first_not_of("0123456789", pid_end + 1);
+  if (n_end == pid_end + 1 || (n_end != std::string::npos && name[n_end] != '.')) return 0;
+  return std::stol(name.substr(at, pid_end - at));
 }
 
 fs::path temporaryPathFor(const fs::path& path) {
@@ -124,15 +126,18 @@ void removeTemporariesOnSignals() {
 
 std::size_t removeStaleTemporaries(const fs::path& path) {
   const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  // Files: ".<stem>.tmp<pid>-<n><ext>"; folders (image-folder BTFs): ".<name>.tmp<pid>-<n>".
-  const std::string file_prefix = "." + path.stem().string() + ".tmp", file_suffix = path.extension().string();
-  const std::string folder_prefix = "." + path.filename().string() + ".tmp";
+  // Once per folder and process: what an earlier run left is there before this process writes, and
+  // a writer of many files into one folder (an image-folder BTF) must not list it for each of them.
+  {
+    static std::mutex mutex;
+    static std::set<fs::path> scanned;
+    const std::lock_guard lock(mutex);
+    if (!scanned.insert(fs::absolute(folder).lexically_normal()).second) return 0;
+  }
   std::size_t removed = 0;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(folder, ec)) {
-    const std::string name = entry.path().filename().string();
-    long owner = temporaryOwner(name, file_prefix, file_suffix);
-    if (owner == 0) owner = temporaryOwner(name, folder_prefix, "");
+    const long owner = temporaryOwner(entry.path().filename().string());
     if (owner <= 0 || owner == long(::getpid())) continue;
     if (::kill(pid_t(owner), 0) == 0 || errno != ESRCH) continue;  // its writer still runs
     std::error_code ignored;

@@ -152,7 +152,7 @@ std::shared_ptr<const Material> createMaterial(const MaterialParams& params, con
 std::shared_ptr<const BtfSource> createBtf(const MaterialParams& params) {
   const MaterialType& type = checkedType(params);
   if (type.btf) return withOrigin(params, [&] { return type.btf(params); });
-  const auto brdf = createMaterial(params);
+  const auto brdf = withOrigin(params, [&] { return type.create(params); });
   const IdentifiedMaterial identified{params, &type, nullptr, type.summary};
   return std::make_shared<BtfData>(brdfAsBtf(*brdf, materialLabel(identified)));
 }
@@ -160,7 +160,7 @@ std::shared_ptr<const BtfSource> createBtf(const MaterialParams& params) {
 MerlTable createTable(const MaterialParams& params) {
   const MaterialType& type = checkedType(params);
   if (type.table) return withOrigin(params, [&] { return type.table(params); });
-  return tabulate(*createMaterial(params));
+  return tabulate(*withOrigin(params, [&] { return type.create(params); }));
 }
 
 IdentifiedMaterial identifyMaterial(const std::string& path_or_spec, const OpenOptions& options) {

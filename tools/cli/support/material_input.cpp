@@ -11,22 +11,26 @@ bool isBtf(const IdentifiedMaterial& material) { return isBtfType(*material.type
 BtfInput openBtfInput(const std::string& path_or_spec, const std::string& database_material) {
   OpenOptions options;
   options.database_material = database_material;
-  BtfInput input{identifyMaterial(path_or_spec, options), nullptr, "", false};
+  return openBtfInput(identifyMaterial(path_or_spec, options));
+}
+
+BtfInput openBtfInput(IdentifiedMaterial material) {
+  BtfInput input{std::move(material), nullptr, "", false};
   input.source = materialBtf(input.material);
   input.description = input.material.description;
-  if (isBtf(input.material)) {
-    std::error_code ec;
-    input.compressed = !std::filesystem::is_directory(input.material.params.path("file"), ec);
-  } else {
-    input.description += " as a one-texel BTF at 81 x 81 directions";
-  }
+  if (isBtf(input.material)) input.compressed = input.material.format && !input.material.format->folder;
+  else input.description += " as a one-texel BTF at 81 x 81 directions";
   return input;
 }
 
 BrdfInput openBrdfInput(const std::string& path_or_spec, std::optional<TableLookup> lookup) {
   OpenOptions options;
   options.lookup = lookup;
-  BrdfInput input{identifyMaterial(path_or_spec, options), nullptr, ""};
+  return openBrdfInput(identifyMaterial(path_or_spec, options), path_or_spec, lookup);
+}
+
+BrdfInput openBrdfInput(IdentifiedMaterial material, const std::string& path_or_spec, std::optional<TableLookup> lookup) {
+  BrdfInput input{std::move(material), nullptr, ""};
   const MaterialType& type = *input.material.type;
   const bool table = std::find(type.keys.begin(), type.keys.end(), "lookup") != type.keys.end();
   if (type.name == "rgl") {

@@ -24,6 +24,7 @@ struct BtfInput {
 };
 // `database_material` names the material of a .btfz database (empty: the file must hold one).
 BtfInput openBtfInput(const std::string& path_or_spec, const std::string& database_material = {});
+BtfInput openBtfInput(IdentifiedMaterial material);
 
 // A material for the BRDF verbs (eval, plot, sample, info). `lookup`, when given, is the table
 // lookup of a table type; a type without one (an RGL file, a fitted model) refuses it, saying why.
@@ -33,6 +34,8 @@ struct BrdfInput {
   const char* evaluation;  // how it is evaluated: the lookup's name, "rgl parameterization", "analytic"
 };
 BrdfInput openBrdfInput(const std::string& path_or_spec, std::optional<TableLookup> lookup);
+// The same for a material identified with OpenOptions::lookup = `lookup` (`path_or_spec` names it).
+BrdfInput openBrdfInput(IdentifiedMaterial material, const std::string& path_or_spec, std::optional<TableLookup> lookup);
 
 // True when the material's data is a BTF (varies over the surface).
 bool isBtf(const IdentifiedMaterial& material);

@@ -53,13 +53,12 @@ TableOutput tableOutputOf(const std::filesystem::path& path) {
   throw FileError(path, "convert writes .binary (MERL), .exr (a stack of MERL half/diff slices) or .octree");
 }
 
-std::string describe(TableOutput output) {
-  switch (output) {
-    case TableOutput::MerlBinary: return "MERL binary (isotropic BRDF table)";
-    case TableOutput::ExrStack: return "EXR stack of MERL half/diff slices (btf convert)";
-    case TableOutput::Octree: return "octree table (MERL layout, btf convert --tolerance)";
-  }
-  return {};
+// The registered format of that extension: the one the file will be read back as.
+const MaterialFileFormat& formatOf(const std::filesystem::path& path) {
+  for (const MaterialType* t : materialTypes())
+    for (const MaterialFileFormat& f : t->formats)
+      if (std::find(f.extensions.begin(), f.extensions.end(), path.extension().string()) != f.extensions.end()) return f;
+  throw FileError(path, "no registered format has this extension");
 }
 
 void writeOctree(const ConvertOptions& o, const MerlTable& table) {
@@ -68,7 +67,7 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
   const MerlTable stored = octree.expand();
   const double full_bytes = double(sizeof(std::int32_t) * 3 + table.values.size() * sizeof(double));
   const auto bytes = std::uintmax_t(std::filesystem::file_size(o.out));
-  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(TableOutput::Octree).c_str());
+  std::printf("wrote %s (%s)\n", o.out.c_str(), formatOf(o.out).description.c_str());
   std::printf("  tolerance   %g (every cell within tolerance x |stored value|, per channel)\n", o.tolerance);
   std::printf("  tree        %zu nodes, %zu leaves (of %zu cells)\n", octree.nodes().size(), octree.leaves().size(),
               MerlTable::kEntriesPerChannel);
@@ -81,8 +80,7 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
 void runConvert(const ConvertOptions& o) {
   const TableOutput to = tableOutputOf(o.out);
   const IdentifiedMaterial from = identifyMaterial(o.in);
-  const bool same = from.format && !from.format->extensions.empty() &&
-                    from.format->extensions.front() == std::filesystem::path(o.out).extension();
+  const bool same = from.format == &formatOf(o.out);
   if (same && to != TableOutput::Octree)  // an octree may be rebuilt at another tolerance
     throw FileError(o.out, "has the same format as " + o.in + "; convert changes the format");
   if (o.tolerance_given && to != TableOutput::Octree)
@@ -91,7 +89,7 @@ void runConvert(const ConvertOptions& o) {
   if (to == TableOutput::Octree) return writeOctree(o, table);
   if (to == TableOutput::ExrStack) writeImageStack(o.out, merlToExrStack(table));
   else writeMerl(o.out, table);
-  std::printf("wrote %s (%s)\n", o.out.c_str(), describe(to).c_str());
+  std::printf("wrote %s (%s)\n", o.out.c_str(), formatOf(o.out).description.c_str());
 }
 
 }  // namespace

@@ -75,7 +75,7 @@ FitData loadFitData(const FitCommandOptions& o) {
   FitData d;
   const IdentifiedMaterial material = identifyMaterial(o.in);
   if (isBtf(material)) {
-    const BtfInput input = openBtfInput(o.in);
+    const BtfInput input = openBtfInput(material);
     std::optional<glm::ivec2> texel;
     if (!o.texel.empty()) {
       texel = glm::ivec2(o.texel[0], o.texel[1]);

@@ -81,10 +81,12 @@ void drawColorBar(Image& canvas, int x0, int y0, int size, const SliceFigure& sl
 }
 
 void runPlot(const PlotOptions& o) {
-  (void)identifyMaterial(o.file);  // an unknown input is named before a bad output name
+  OpenOptions options;
+  options.lookup = o.lookup;
+  IdentifiedMaterial material = identifyMaterial(o.file, options);  // an unknown input is named before a bad output
   if (std::filesystem::path(o.output).extension() != ".png")
     throw FileError(o.output, "plot writes PNG images: give the output a .png name");
-  const BrdfInput input = openBrdfInput(o.file, o.lookup);
+  const BrdfInput input = openBrdfInput(std::move(material), o.file, o.lookup);
   const Material& brdf = *input.brdf;
 
   const int size = o.size;

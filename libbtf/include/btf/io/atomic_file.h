@@ -36,8 +36,9 @@ class TemporaryGuard {
 // user with handlers of their own leaves it out.
 void removeTemporariesOnSignals();
 
-// Temporaries beside `path` that an interrupted earlier run left (named as this library names
-// them, by a process that is gone) are removed before a new write; returns how many.
+// Temporaries in the folder of `path` that an interrupted earlier run left (named as this library
+// names them, by a process that is gone) are removed before the first write into that folder in
+// this process; returns how many.
 std::size_t removeStaleTemporaries(const std::filesystem::path& path);
 
 // Throws FileError unless `path` names an existing regular file that can be opened for reading.
