@@ -25,8 +25,36 @@ constexpr float kShadowBias = 1e-3f;
 
 }  // namespace
 
+namespace {
+
+// n points of a spherical Fibonacci spiral over the cap theta <= 80 degrees (equal solid angle per
+// point), turned by `turn` degrees.
+std::vector<BtfAngles> fibonacciCap(int n, float turn) {
+  constexpr double kGolden = 137.50776405003785;  // degrees
+  const double cos_max = std::cos(80.0 * 3.14159265358979323846 / 180.0);
+  std::vector<BtfAngles> out;
+  for (int i = 0; i < n; ++i) {
+    const double cos_theta = 1.0 - (double(i) + 0.5) / double(n) * (1.0 - cos_max);
+    const double theta = std::acos(cos_theta) * 180.0 / 3.14159265358979323846;
+    const double phi = std::fmod(double(i) * kGolden + double(turn), 360.0);
+    out.push_back({float(theta), float(phi)});
+  }
+  return out;
+}
+
+}  // namespace
+
+BtfDirectionSetPtr scatteredDirectionSet(int views, int lights) {
+  if (views < 1 || lights < 1) throw Error("a scattered direction set needs at least one view and one light");
+  std::vector<std::vector<BtfAngles>> light_lists;
+  for (int v = 0; v < views; ++v) light_lists.push_back(fibonacciCap(lights, 7.0f * float(v)));
+  return std::make_shared<const BtfDirectionSet>("scattered", fibonacciCap(views, 0.0f), std::move(light_lists));
+}
+
 SyntheticBtf::SyntheticBtf(Microgeometry geometry, std::string name, SyntheticBtfOptions options)
     : geometry_(std::move(geometry)), name_(std::move(name)), options_(options) {
+  if (!options_.directions) throw Error(name_ + ": a synthetic BTF needs a direction set");
+  views_ = BtfViewSet::all(options_.directions);
   geometry_.validate();
   const int gw = geometry_.gridWidth(), gh = geometry_.gridHeight();
   const float spacing = 1.0f / float(geometry_.samples_per_texel);
@@ -125,12 +153,13 @@ bool SyntheticBtf::occluded(const glm::vec3& p, const glm::vec3& wi) const {
 }
 
 void SyntheticBtf::loadView(int view, std::vector<Rgb>& out) const {
-  if (view < 0 || view >= kBtfDirectionCount) throw Error("BTF view index " + std::to_string(view) + " is out of range");
-  const auto& directions = btfDirections();
-  const glm::vec3 wo = directions[std::size_t(view)].w;
+  views_.require(view, name_);
+  const BtfDirectionSet& set = *options_.directions;
+  const glm::vec3 wo = set.view(view);
+  const std::span<const glm::vec3> lights = set.lightDirections(view);
   const int w = width(), h = height();
   const std::size_t texels = texelCount();
-  out.resize(texels * kBtfDirectionCount);
+  out.resize(texels * lights.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < w; ++x) {
@@ -145,13 +174,13 @@ void SyntheticBtf::loadView(int view, std::vector<Rgb>& out) const {
         const glm::vec3 wo_local = frame.toLocal(wo);
         const glm::vec2 uv((hit.x) / float(w), (hit.y) / float(h));
         const std::size_t texel = std::size_t(y) * std::size_t(w) + std::size_t(x);
-        for (int light = 0; light < kBtfDirectionCount; ++light) {
-          const glm::vec3 wi = directions[std::size_t(light)].w;
+        for (std::size_t light = 0; light < lights.size(); ++light) {
+          const glm::vec3 wi = lights[light];
           const float cos_hit = glm::dot(n, wi);
           Rgb value;
           if (cos_hit > 0.0f && wo_local.z > 0.0f && !(options_.shadows && occluded(hit, wi)))
             value = tint * material.eval(frame.toLocal(wi), wo_local, uv) * (cos_hit / wi.z);
-          out[std::size_t(light) * texels + texel] = value;
+          out[light * texels + texel] = value;
         }
       }
   });

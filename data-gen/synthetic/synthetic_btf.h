@@ -1,5 +1,6 @@
 // Synthetic BTFs that behave like measured ones: a virtual gonioreflectometer observing a
-// procedural microgeometry (microgeometry.h, btf_patterns.h) from the 81 x 81 directions.
+// procedural microgeometry (microgeometry.h, btf_patterns.h) from the 81 x 81 directions, or from
+// any direction set (the Bonn dome's 151, a scattered one).
 //
 // Per view and light, for each texel: the orthographic view ray through the texel centre of the
 // reference plane (height 0) meets the height field, so the texel shows whatever it hits
@@ -28,7 +29,13 @@ namespace btf::synthetic {
 
 struct SyntheticBtfOptions {
   bool shadows = true;  // false: every light reaches every hit point (for tests of the shadowing)
+  BtfDirectionSetPtr directions = BtfDirectionSet::ubo2003();  // where the gonioreflectometer looks from
 };
+
+// A scattered direction set that no ring structure serves, for tests and generated data: `views`
+// views and, per view, `lights` lights on spherical Fibonacci spirals over the cap theta <= 80
+// degrees, each view's spiral turned by its own angle (view-dependent light lists).
+BtfDirectionSetPtr scatteredDirectionSet(int views, int lights);
 
 class SyntheticBtf final : public BtfSource {
  public:
@@ -37,6 +44,7 @@ class SyntheticBtf final : public BtfSource {
   int width() const override { return geometry_.width; }
   int height() const override { return geometry_.height; }
   std::string name() const override { return name_; }
+  const BtfViewSet& views() const override { return views_; }
   void loadView(int view, std::vector<Rgb>& out) const override;
 
   const Microgeometry& geometry() const { return geometry_; }
@@ -60,6 +68,7 @@ class SyntheticBtf final : public BtfSource {
   Microgeometry geometry_;
   std::string name_;
   SyntheticBtfOptions options_;
+  BtfViewSet views_;
   std::vector<glm::vec2> gradients_;  // dh/dx, dh/dy per grid sample (central differences)
   float min_height_ = 0, max_height_ = 0;
   float step_ = 0;  // horizontal ray-marching step (texels): half a grid cell

@@ -18,6 +18,7 @@
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
 #include "btf/core/btf_directions.h"
+#include "btf/io/bonn_btf.h"
 #include "btf/io/btf_data.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/image.h"
@@ -309,6 +310,33 @@ void fit(const fs::path& out) {
   put(out / "truncated.json", lafortune.substr(0, lafortune.size() / 2));
 }
 
+// Bonn .btf files of a tiny BTF on a scattered set of directions (one view with its own lights),
+// one per layout as our writers make them, and a damaged copy.
+void bonn(const fs::path& out) {
+  const std::vector<btf::BtfAngles> views = {{0, 0}, {30, 90}};
+  const std::vector<std::vector<btf::BtfAngles>> lights = {{{0, 0}, {45, 0}, {60, -90}}, {{0, 0}, {40, 10}, {60, -90}}};
+  const auto set = std::make_shared<const btf::BtfDirectionSet>("fuzz", views, lights);
+  btf::BtfData data(2, 2, "tiny", btf::BtfViewSet::all(set));
+  for (int v = 0; v < 2; ++v)
+    for (int l = 0; l < 3; ++l)
+      for (int t = 0; t < 4; ++t) data.at(t % 2, t / 2, v, l) = btf::Rgb(0.1f + 0.1f * float(l), 0.2f * float(v + 1), 0.05f * float(t + 1));
+  const fs::path scratch = out / "scratch.btf";
+  btf::BonnBtfWriteOptions options;
+  options.max_components = 2;
+  btf::writeBonnBtf(data, scratch, options);
+  const Bytes dfmf = bytesOf(scratch);
+  put(out / "dfmf-log-yuv-half.btf", dfmf);
+  put(out / "truncated.btf", prefix(dfmf, dfmf.size() / 2));
+  options.layout = btf::BonnBtfLayout::Fmf;
+  options.dynamic_range_reduction = 1;
+  options.scalar_bytes = 4;
+  btf::writeBonnBtf(data, scratch, options);
+  put(out / "fmf-log-float.btf", bytesOf(scratch));
+  btf::writeBonnBtfPvf(data, scratch, 2, 8);
+  put(out / "pvf-double.btf", bytesOf(scratch));
+  fs::remove(scratch);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -318,7 +346,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   for (const char* target : {"fuzz_merl", "fuzz_rgl", "fuzz_btfz", "fuzz_btf_json", "fuzz_btf_image", "fuzz_exr_stack",
-                             "fuzz_scene", "fuzz_mesh", "fuzz_octree", "fuzz_fit"})
+                             "fuzz_scene", "fuzz_mesh", "fuzz_octree", "fuzz_fit", "fuzz_bonn_btf"})
     fs::create_directories(out / target);
   merl(out / "fuzz_merl");
   rgl(out / "fuzz_rgl");
@@ -330,5 +358,6 @@ int main(int argc, char** argv) {
   mesh(out / "fuzz_mesh");
   octree(out / "fuzz_octree");
   fit(out / "fuzz_fit");
+  bonn(out / "fuzz_bonn_btf");
   return 0;
 }

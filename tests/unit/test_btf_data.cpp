@@ -89,7 +89,7 @@ TEST(BtfData, IndexingAndLoadViewLayout) {
   EXPECT_EQ(data.name(), "grid");
   EXPECT_EQ(data.texelCount(), 6u);
   EXPECT_EQ(data.entryCount(), 6u * 81 * 81);
-  EXPECT_EQ(data.viewSize(), 6u * 81);
+  EXPECT_EQ(data.viewValueCount(0), 6u * 81);
   // A value that encodes its own coordinates, so any mix-up of indices shows.
   for (int v = 0; v < 81; ++v)
     for (int l = 0; l < 81; ++l)
@@ -98,7 +98,7 @@ TEST(BtfData, IndexingAndLoadViewLayout) {
   std::vector<Rgb> out;
   for (const int v : {0, 40, 80}) {
     data.loadView(v, out);
-    ASSERT_EQ(out.size(), data.viewSize());
+    ASSERT_EQ(out.size(), data.viewValueCount(v));
     for (int l = 0; l < 81; ++l)
       for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 3; ++x) {
@@ -121,7 +121,7 @@ TEST(BtfData, CopyOfReadsEveryView) {
   ASSERT_EQ(copy.width(), 3);
   ASSERT_EQ(copy.height(), 2);
   for (int v = 0; v < 81; ++v)
-    for (std::size_t i = 0; i < source.viewSize(); ++i) ASSERT_EQ(copy.view(v)[i], source.view(v)[i]);
+    for (std::size_t i = 0; i < source.viewValueCount(v); ++i) ASSERT_EQ(copy.view(v)[i], source.view(v)[i]);
 }
 
 TEST(CompareBtf, IdenticalDataHasZeroError) {
@@ -140,7 +140,7 @@ TEST(CompareBtf, ScaleErrorGivesKnownRelRmseAndPsnr) {
   BtfData test_data(4, 3);
   double sum_sq = 0, max_ref = 0;
   for (int v = 0; v < 81; ++v)
-    for (std::size_t i = 0; i < reference.viewSize(); ++i) {
+    for (std::size_t i = 0; i < reference.viewValueCount(v); ++i) {
       const Rgb r = reference.view(v)[i];
       test_data.view(v)[i] = Rgb(float(r.r * (1 + e)), float(r.g * (1 + e)), float(r.b * (1 + e)));
       for (int c = 0; c < 3; ++c) {

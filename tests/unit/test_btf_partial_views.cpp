@@ -49,7 +49,7 @@ using test::srgbEncode;
 // The views of `full` that `views` names, as a partial BtfData (equal values on those views).
 BtfData subset(const BtfData& full, const BtfViewSet& views, const std::string& name = "partial") {
   BtfData out(full.width(), full.height(), name, views);
-  for (const int v : views.views()) std::copy(full.view(v), full.view(v) + full.viewSize(), out.view(v));
+  for (const int v : views.views()) std::copy(full.view(v), full.view(v) + full.viewValueCount(v), out.view(v));
   return out;
 }
 

@@ -390,7 +390,7 @@ TEST(BtfQualityAll, EqualsTheThreeMeasuresBitForBitLoadingEveryViewOnce) {
   const BtfData reference_data = makePatternBtf(13, 11, BtfViewSet({0, 9, 40}), "reference");
   const BtfData noisy = withNoise(reference_data, 0.03, 7);
   BtfData test_data(13, 11, "test", BtfViewSet({0, 9, 40, 60}));
-  for (const int v : noisy.views().views()) std::copy(noisy.view(v), noisy.view(v) + noisy.viewSize(), test_data.view(v));
+  for (const int v : noisy.views().views()) std::copy(noisy.view(v), noisy.view(v) + noisy.viewValueCount(v), test_data.view(v));
   for (const std::optional<float> white : {std::optional<float>(), std::optional<float>(0.5f)}) {
     BtfSsimOptions options;
     options.white = white;

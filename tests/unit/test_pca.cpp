@@ -37,7 +37,7 @@ class CountingSource final : public BtfSource {
 BtfData scaled(const BtfData& data, float factor) {
   BtfData out(data.width(), data.height(), data.name());
   for (int v = 0; v < kBtfDirectionCount; ++v)
-    for (std::size_t i = 0; i < data.viewSize(); ++i) out.view(v)[i] = data.view(v)[i] * factor;
+    for (std::size_t i = 0; i < data.viewValueCount(v); ++i) out.view(v)[i] = data.view(v)[i] * factor;
   return out;
 }
 

@@ -80,6 +80,18 @@ demo() {
   "$bin/btf" compress "$out/fabric-btf" "$out/fabric.btfz" --epsilon 0.02
   "$bin/btf" info "$out/fabric.btfz"
   "$bin/btf" decompress "$out/fabric.btfz" "$out/fabric-decoded" --format png16
+  echo "== the datasets people download: the same BTF in the UTIA layout (a folder per view, EXR in CIE XYZ) and"
+  echo "   as a Bonn .btf file (DFMF: log-Y, U/Y, V/Y factorised by a truncated SVD), each read and compressed"
+  "$bin/btf-datagen" btf --pattern fabric --size 16 --seed 1 --layout utia --format exr -o "$out/fabric-utia"
+  "$bin/btf" info "$out/fabric-utia"
+  "$bin/btf" compress "$out/fabric-utia" "$out/fabric-utia.btfz" --epsilon 0.02
+  "$bin/btf-datagen" btf --pattern fabric --size 16 --seed 1 --layout dfmf --components 256 -o "$out/fabric.btf"
+  "$bin/btf" info "$out/fabric.btf"
+  "$bin/btf" compare "$out/fabric.btf" "$out/fabric-btf"
+  "$bin/btf" compress "$out/fabric.btf" "$out/fabric-dfmf.btfz" --epsilon 0.02
+  echo "   and the Bonn dome's own 151 x 151 directions, read without decoding"
+  "$bin/btf-datagen" btf --pattern stones --size 16 --seed 1 --directions dome --layout dfmf -o "$out/stones-dome.btf"
+  "$bin/btf" info "$out/stones-dome.btf"
   echo "== VQ against per-view PCA at equal storage (rate-distortion chart), and how far the data can be compressed at all"
   "$bin/btf" bench compression --patterns fabric --size 16 --epsilons 0.02,0.1,0.4 --levels 3 --no-brdfs -o "$out/bench-compression"
   "$bin/btf" bench compressibility --patterns fabric --size 16 -o "$out/compressibility"

@@ -207,6 +207,7 @@ std::vector<double> squaredSingularValues(const RowMatrix& x) {
 }
 
 void checkOptions(const BtfSource& source, const CompressibilityOptions& options) {
+  source.views().requireUbo2003("the compressibility analysis of " + source.name());
   const std::size_t texels = source.texelCount();
   if (texels < 2)
     throw Error(source.name() + ": compressibility needs at least 2 texels, the BTF has " + std::to_string(texels));

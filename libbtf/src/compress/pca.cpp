@@ -32,6 +32,7 @@ int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget, Pca
 }
 
 PcaBtf compressPcaToBytes(const BtfSource& source, std::uint64_t byte_budget, PcaPrecision precision) {
+  source.views().requireUbo2003("PCA compression of " + source.name());
   const int views = source.views().count();
   const int k = pcaComponentsForBudget(source.width(), source.height(), byte_budget, precision, views);
   if (k < 0)

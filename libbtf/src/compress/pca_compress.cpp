@@ -140,6 +140,7 @@ struct PcaViewFactorizer {
 };
 
 PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precision) {
+  source.views().requireUbo2003("PCA compression of " + source.name());
   PcaBtf pca;
   const BtfViewSet& views = source.views();
   const int view_count = views.count();

@@ -809,6 +809,7 @@ void inArena(int threads, F&& work) {
 }
 
 std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptions& options, std::string name) {
+  source.views().requireUbo2003("VQ compression of " + source.name() + " (its level-1 codebooks are built per ring)");
   auto impl = std::make_shared<VqBtf::Impl>();
   impl->width = source.width();
   impl->height = source.height();

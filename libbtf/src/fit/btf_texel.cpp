@@ -24,10 +24,11 @@ BtfData btfTexel(const BtfSource& btf, std::optional<glm::ivec2> texel) {
   Progress progress("reading " + btf.name(), std::uint64_t(btf.views().count()));
   for (const int v : btf.views().views()) {
     btf.loadView(v, view);
-    if (view.size() != std::size_t(kBtfDirectionCount) * texels)
+    const int lights = btf.directions().lightCount(v);
+    if (view.size() != std::size_t(lights) * texels)
       throw Error(btf.name() + ": view " + std::to_string(v) + " has " + std::to_string(view.size()) + " values, expected " +
-                  std::to_string(std::size_t(kBtfDirectionCount) * texels));
-    for (int light = 0; light < kBtfDirectionCount; ++light) {
+                  std::to_string(std::size_t(lights) * texels));
+    for (int light = 0; light < lights; ++light) {
       const Rgb* values = view.data() + std::size_t(light) * texels;
       if (texel) {
         out.at(0, 0, v, light) = values[std::size_t(texel->y) * std::size_t(btf.width()) + std::size_t(texel->x)];
@@ -49,10 +50,12 @@ std::vector<MeasuredReflectance> texelMeasurements(const BtfData& texel) {
     throw Error(texel.name() + ": expected a one-texel BTF, got " + std::to_string(texel.width()) + " x " +
                 std::to_string(texel.height()) + " texels");
   std::vector<MeasuredReflectance> out;
-  out.reserve(std::size_t(texel.views().count()) * kBtfDirectionCount);
-  for (const int v : texel.views().views())
-    for (int light = 0; light < kBtfDirectionCount; ++light)
-      out.push_back({btfDirections()[std::size_t(light)].w, btfDirections()[std::size_t(v)].w, texel.at(0, 0, v, light)});
+  const BtfDirectionSet& set = texel.directions();
+  for (const int v : texel.views().views()) {
+    const std::span<const glm::vec3> lights = set.lightDirections(v);
+    for (std::size_t light = 0; light < lights.size(); ++light)
+      out.push_back({lights[light], set.view(v), texel.at(0, 0, v, int(light))});
+  }
   return out;
 }
 

@@ -22,25 +22,36 @@ const BtfViewSet& allViews() {
 const BtfViewSet& BtfSource::views() const { return allViews(); }
 const BtfViewSet& BtfLookup::lookupViews() const { return allViews(); }
 
+std::size_t BtfSource::entryCount() const {
+  std::size_t pairs = 0;
+  for (const int v : views().views()) pairs += std::size_t(directions().lightCount(v));
+  return texelCount() * pairs;
+}
+
 BtfData::BtfData(int width, int height, std::string name, BtfViewSet views)
     : width_(width), height_(height), name_(std::move(name)), views_(std::move(views)) {
   if (width < 1 || height < 1)
     throw Error("BTF size " + std::to_string(width) + " x " + std::to_string(height) + " is invalid: both must be >= 1");
-  values_.assign(viewSize() * std::size_t(views_.count()), Rgb());
+  std::size_t total = 0;
+  for (const int v : views_.views()) {
+    view_offsets_.push_back(total);
+    total += viewValueCount(v);
+  }
+  values_.assign(total, Rgb());
 }
 
 void BtfLookup::checkSampleIndices(std::span<const BtfSampleIndex> samples, std::size_t out_size) const {
   if (samples.size() != out_size) throw Error("BTF values: spans of different sizes");
   const int w = lookupWidth(), h = lookupHeight();
   const BtfViewSet& held = lookupViews();
+  const BtfDirectionSet& set = held.directions();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const BtfSampleIndex& s = samples[i];
-    if (s.x < 0 || s.x >= w || s.y < 0 || s.y >= h || s.view < 0 || s.view >= kBtfDirectionCount || s.light < 0 ||
-        s.light >= kBtfDirectionCount)
+    if (s.x < 0 || s.x >= w || s.y < 0 || s.y >= h || s.view < 0 || s.view >= set.viewCount() || s.light < 0 ||
+        s.light >= set.lightCount(s.view))
       throw Error("BTF values: sample " + std::to_string(i) + " (x " + std::to_string(s.x) + ", y " + std::to_string(s.y) +
                   ", view " + std::to_string(s.view) + ", light " + std::to_string(s.light) + ") is outside the " +
-                  std::to_string(w) + " x " + std::to_string(h) + " texels and " + std::to_string(kBtfDirectionCount) +
-                  " directions");
+                  std::to_string(w) + " x " + std::to_string(h) + " texels and " + set.describe());
     if (!held.contains(s.view)) held.require(s.view, "BTF values: sample " + std::to_string(i));
   }
 }
@@ -53,7 +64,7 @@ void BtfLookup::values(std::span<const BtfSampleIndex> samples, std::span<Rgb> o
 
 void BtfData::loadView(int v, std::vector<Rgb>& out) const {
   views_.require(v, name_);
-  out.assign(view(v), view(v) + viewSize());
+  out.assign(view(v), view(v) + viewValueCount(v));
 }
 
 BtfData BtfData::copyOf(const BtfSource& source) {
@@ -65,7 +76,7 @@ BtfData BtfData::copyOf(const BtfSource& source) {
 }
 
 void requireViewSize(const BtfSource& source, int view, std::size_t size) {
-  const std::size_t expected = std::size_t(kBtfDirectionCount) * source.texelCount();
+  const std::size_t expected = source.viewValueCount(view);
   if (size != expected)
     throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(size) +
                 " values, expected " + std::to_string(expected));
@@ -76,6 +87,9 @@ void requireComparableBtfs(const BtfSource& reference, const BtfSource& test) {
     throw Error("cannot compare " + test.name() + " (" + std::to_string(test.width()) + " x " +
                 std::to_string(test.height()) + " texels) with " + reference.name() + " (" +
                 std::to_string(reference.width()) + " x " + std::to_string(reference.height()) + ")");
+  if (!(reference.directions() == test.directions()))
+    throw Error("cannot compare " + test.name() + " (" + test.directions().describe() + ") with " + reference.name() +
+                " (" + reference.directions().describe() + "): they are measured on different direction sets");
   for (const int v : reference.views().views()) test.views().require(v, "cannot compare " + test.name() + " with " + reference.name());
 }
 

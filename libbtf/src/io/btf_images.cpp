@@ -15,6 +15,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <sstream>
 
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
@@ -65,6 +66,16 @@ std::string describePair(int view, int light) {
 
 std::string sizeText(int width, int height) { return std::to_string(width) + " x " + std::to_string(height); }
 
+// CIE XYZ (D65 white) <-> linear Rec.709 / sRGB primaries (IEC 61966-2-1's matrices).
+Rgb xyzToRec709(const Rgb& c) {
+  return Rgb(3.2404542f * c.r - 1.5371385f * c.g - 0.4985314f * c.b, -0.9692660f * c.r + 1.8760108f * c.g + 0.0415560f * c.b,
+             0.0556434f * c.r - 0.2040259f * c.g + 1.0572252f * c.b);
+}
+Rgb rec709ToXyz(const Rgb& c) {
+  return Rgb(0.4124564f * c.r + 0.3575761f * c.g + 0.1804375f * c.b, 0.2126729f * c.r + 0.7151522f * c.g + 0.0721750f * c.b,
+             0.0193339f * c.r + 0.1191920f * c.g + 0.9503041f * c.b);
+}
+
 // Rethrows the error of the lowest index, so a failing parallel loop reports the same error
 // whatever the thread count.
 // An image of the folder, its header checked against the BTF's size (that of `first`) before any
@@ -89,6 +100,8 @@ void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
 struct Sidecar {
   float value_scale = 1.0f;
   std::optional<BtfTransfer> transfer;
+  std::optional<BtfColorSpace> color_space;
+  std::optional<fs::path> direction_list;   // relative to the folder
   std::optional<int> width, height, views;  // as recorded by the writer, if present
 };
 
@@ -121,6 +134,19 @@ Sidecar readSidecar(const fs::path& folder) {
     if (!transfer) throw FileError(sidecar, "transfer must be \"srgb\" or \"linear\", not " + t.dump());
     result.transfer = transfer;
   }
+  if (doc.contains("color_space")) {
+    const nlohmann::json& c = doc["color_space"];
+    const std::string name = c.is_string() ? lower(c.get<std::string>()) : std::string();
+    if (name == "xyz") result.color_space = BtfColorSpace::Xyz;
+    else if (name == "rec709" || name == "srgb") result.color_space = BtfColorSpace::Rec709;
+    else throw FileError(sidecar, "color_space must be \"xyz\" or \"rec709\", not " + c.dump());
+  }
+  if (doc.contains("direction_list")) {
+    const nlohmann::json& d = doc["direction_list"];
+    if (!d.is_string() || d.get<std::string>().empty())
+      throw FileError(sidecar, "direction_list must name a file in the folder, not " + d.dump());
+    result.direction_list = fs::path(d.get<std::string>());
+  }
   // The facts our writer records for people: not needed to read the images, but a sidecar that
   // holds them holds them right (a width of 2^63, true or "nan" is a damaged file, not a note).
   for (const char* key : {"width", "height", "views"}) {
@@ -133,7 +159,7 @@ Sidecar readSidecar(const fs::path& folder) {
     const std::string_view name(key);
     (name == "width" ? result.width : name == "height" ? result.height : result.views) = v.get<int>();
   }
-  for (const char* key : {"format", "source"})
+  for (const char* key : {"format", "source", "layout"})
     if (doc.contains(key) && !doc[key].is_string())
       throw FileError(sidecar, std::string(key) + " must be a string, not " + doc[key].dump());
   return result;
@@ -151,6 +177,8 @@ std::string btfImageFormatName(BtfImageFormat format) {
 }
 
 std::string btfImageExtension(BtfImageFormat format) { return format == BtfImageFormat::Exr ? ".exr" : ".png"; }
+
+std::string btfImageLayoutName(BtfImageLayout layout) { return layout == BtfImageLayout::Utia ? "UTIA" : "UBO2003"; }
 
 std::string btfTransferName(BtfTransfer transfer) { return transfer == BtfTransfer::Srgb ? "srgb" : "linear"; }
 
@@ -211,14 +239,32 @@ std::string btfImageName(int view, int light, BtfImageFormat format) {
   return text + btfImageExtension(format);
 }
 
+std::string btfImagePath(int view, int light, BtfImageFormat format, BtfImageLayout layout) {
+  if (layout == BtfImageLayout::Ubo2003) return btfImageName(view, light, format);
+  const BtfDirection& v = btfDirections().at(std::size_t(view));
+  const BtfDirection& l = btfDirections().at(std::size_t(light));
+  char text[96];
+  const int tv = int(std::lround(v.theta_deg)), pv = int(std::lround(v.phi_deg));
+  std::snprintf(text, sizeof text, "tv%03d_pv%03d/tl%03d_pl%03d_tv%03d_pv%03d", tv, pv, int(std::lround(l.theta_deg)),
+                int(std::lround(l.phi_deg)), tv, pv);
+  return text + btfImageExtension(format);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Reading
 
-BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
-  std::error_code ec;
-  if (!fs::exists(folder, ec)) throw FileError(folder, "no such folder");
-  if (!fs::is_directory(folder, ec)) throw FileError(folder, "is not a folder (a BTF is read from a folder of images)");
+namespace {
 
+// The view a UTIA subfolder stands for ("tv030_pv060", any case), or nothing for other names.
+std::optional<int> parseViewFolderName(const std::string& name) {
+  const std::string n = lower(name);
+  int tv = 0, pv = 0, used = 0;
+  if (std::sscanf(n.c_str(), "tv%d_pv%d%n", &tv, &pv, &used) != 2 || std::size_t(used) != n.size()) return std::nullopt;
+  return findBtfDirection(float(tv), float(pv));
+}
+
+std::vector<fs::path> imageFilesIn(const fs::path& folder) {
+  std::error_code ec;
   std::vector<fs::path> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder, ec)) {
     if (!entry.is_regular_file()) continue;
@@ -226,29 +272,109 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
   }
   if (ec) throw FileError(folder, "cannot be listed: " + ec.message());
   std::sort(files.begin(), files.end());  // directory order varies; messages must not
+  return files;
+}
+
+// UTIA's list of directions (one line per direction: number, theta, phi, theta_lS, phi_lS) as the
+// lights of each view: light v of view v (light and camera at the same place) moved to its
+// shifted position. The result keeps the UBO2003 set as its nominal one.
+BtfDirectionSetPtr shiftedLightSet(const fs::path& list) {
+  std::ifstream in(list);
+  if (!in) throw FileError(list, "cannot be opened (named by btf.json's direction_list)");
+  std::vector<std::array<double, 5>> rows;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::array<double, 5> row{};
+    std::istringstream fields(line);
+    int n = 0;
+    while (n < 5 && fields >> row[std::size_t(n)]) ++n;
+    if (n == 0 && line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    if (n < 5) {
+      if (rows.empty() && n == 0) continue;  // a heading
+      throw FileError(list, "line " + std::to_string(line_number) +
+                                " does not hold five numbers (number, theta, phi, theta_lS, phi_lS)");
+    }
+    rows.push_back(row);
+  }
+  if (rows.size() != std::size_t(kBtfDirectionCount))
+    throw FileError(list, "lists " + std::to_string(rows.size()) + " directions; the UTIA layout has " +
+                              std::to_string(kBtfDirectionCount));
+  const BtfDirectionSet& nominal = *BtfDirectionSet::ubo2003();
+  std::vector<BtfAngles> views(nominal.lights(0).begin(), nominal.lights(0).end());
+  std::vector<std::vector<BtfAngles>> lights(std::size_t(kBtfDirectionCount), views);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& r = rows[k];
+    if (findBtfDirection(float(r[1]), float(r[2])) != int(k))
+      throw FileError(list, "direction " + std::to_string(k + 1) + " is (theta " + std::to_string(r[1]) + ", phi " +
+                                std::to_string(r[2]) + "), not the set's (" + describeBtfDirection(int(k)) + ")");
+    if (!(r[3] >= 0 && r[3] < 90) || !std::isfinite(r[4]))
+      throw FileError(list, "direction " + std::to_string(k + 1) + " has a shifted light at theta " +
+                                std::to_string(r[3]) + ", phi " + std::to_string(r[4]) + " (theta must lie in [0, 90))");
+    lights[k][k] = BtfAngles{float(r[3]), float(r[4])};
+  }
+  return std::make_shared<const BtfDirectionSet>("UTIA, shifted lights", views, lights, BtfDirectionSet::ubo2003());
+}
+
+}  // namespace
+
+BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) throw FileError(folder, "no such folder");
+  if (!fs::is_directory(folder, ec)) throw FileError(folder, "is not a folder (a BTF is read from a folder of images)");
 
   BtfImageFolder result;
   result.folder_ = folder;
   result.paths_.assign(kImagesPerBtf, fs::path());
+  // The UBO2003 layout: tagged images in the folder. Else the UTIA layout: a subfolder per view.
+  std::vector<std::pair<fs::path, std::optional<int>>> files;  // with the view its folder names
+  for (const fs::path& file : imageFilesIn(folder)) files.emplace_back(file, std::nullopt);
+  const bool tagged = std::any_of(files.begin(), files.end(), [](const auto& f) {
+    try {
+      return parseBtfImageName(f.first.filename().string()).has_value();
+    } catch (const Error&) {
+      return true;  // reported below
+    }
+  });
+  if (!tagged) {
+    std::vector<std::pair<fs::path, int>> view_folders;
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder, ec))
+      if (entry.is_directory())
+        if (const std::optional<int> view = parseViewFolderName(entry.path().filename().string()))
+          view_folders.emplace_back(entry.path(), *view);
+    std::sort(view_folders.begin(), view_folders.end());
+    if (!view_folders.empty()) {
+      result.layout_ = BtfImageLayout::Utia;
+      files.clear();
+      for (const auto& [sub, view] : view_folders)
+        for (const fs::path& file : imageFilesIn(sub)) files.emplace_back(file, view);
+    }
+  }
+
   int found = 0;
-  for (const fs::path& file : files) {
+  for (const auto& [file, folder_view] : files) {
     std::optional<BtfImagePair> pair;
     try {
       pair = parseBtfImageName(file.filename().string());
     } catch (const Error& e) {
-      throw FileError(folder, e.what());
+      throw FileError(file.parent_path(), e.what());
     }
     if (!pair) continue;
+    if (folder_view && *folder_view != pair->view)
+      throw FileError(file, "names view (" + describeBtfDirection(pair->view) + "), but it lies in the folder of view (" +
+                                describeBtfDirection(*folder_view) + ")");
     fs::path& slot = result.paths_[std::size_t(pair->view * kBtfDirectionCount + pair->light)];
     if (!slot.empty())
       throw FileError(folder, "two images for " + describePair(pair->view, pair->light) + ": " +
-                                  slot.filename().string() + " and " + file.filename().string());
+                                  slot.lexically_relative(folder).string() + " and " +
+                                  file.lexically_relative(folder).string());
     slot = file;
     ++found;
   }
   if (found == 0)
     throw FileError(folder, "holds no BTF images (expected images named like tv030_pv060_tl045_pl120.png, 81 lights "
-                            "for each view held)");
+                            "for each view held, in the folder or, in the UTIA layout, in subfolders like tv030_pv060/)");
   // A view is held when any of its images is there, and then needs all 81 (a gantry records every
   // light per camera position; the codecs group a texel's data by view).
   std::vector<int> held;
@@ -262,7 +388,7 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
     if (missing == kBtfDirectionCount) continue;
     if (missing > 0) {
       // The name to suggest, with the extension the view's other images have (.exr, .jpg, ...).
-      fs::path suggestion = btfImageName(view, first_missing, BtfImageFormat::Png8);
+      fs::path suggestion = btfImagePath(view, first_missing, BtfImageFormat::Png8, result.layout_);
       for (int light = 0; light < kBtfDirectionCount; ++light)
         if (const fs::path& held_path = result.paths_[std::size_t(view * kBtfDirectionCount + light)]; !held_path.empty()) {
           suggestion.replace_extension(held_path.extension());
@@ -275,11 +401,17 @@ BtfImageFolder BtfImageFolder::open(const fs::path& folder) {
     }
     held.push_back(view);
   }
-  result.views_ = BtfViewSet(std::move(held));
-
   const Sidecar sidecar = readSidecar(folder);
   result.value_scale_ = sidecar.value_scale;
   result.transfer_override_ = sidecar.transfer;
+  result.color_space_ = sidecar.color_space.value_or(result.layout_ == BtfImageLayout::Utia ? BtfColorSpace::Xyz
+                                                                                             : BtfColorSpace::Rec709);
+  BtfDirectionSetPtr directions = BtfDirectionSet::ubo2003();
+  if (sidecar.direction_list) {
+    result.direction_list_ = folder / *sidecar.direction_list;
+    directions = shiftedLightSet(*result.direction_list_);
+  }
+  result.views_ = BtfViewSet(std::move(held), directions);
   const fs::path& first = result.imagePath(result.views_.view(0), 0);
   auto in = openImageInput(first);
   result.width_ = in->header().width;
@@ -372,8 +504,14 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
   const float scale = is_float ? 1.0f : value_scale_;
   if (transfer == BtfTransfer::Srgb)
     for (float& p : pixels) p = srgbDecode(p);  // 16-bit codes: rarely sRGB, not worth a table
+  const bool xyz = is_float && color_space_ == BtfColorSpace::Xyz;
   for (std::size_t i = 0; i < texels; ++i) {
-    const Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
+    Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
+    if (xyz && v.isFinite() && v.minComponent() >= 0.0f) {
+      // Colours outside the Rec.709 gamut come out slightly negative: 0, as a reflectance is.
+      const Rgb rgb = xyzToRec709(v);
+      v = Rgb(std::max(rgb.r, 0.0f), std::max(rgb.g, 0.0f), std::max(rgb.b, 0.0f));
+    }
     if (is_float && (!v.isFinite() || v.minComponent() < 0.0f || v.maxComponent() > kMaxReflectance))
       throw FileError(path, "pixel (" + std::to_string(i % std::size_t(width_)) + ", " +
                                 std::to_string(i / std::size_t(width_)) + ") holds " +
@@ -495,8 +633,10 @@ void requireReplaceable(const fs::path& folder, bool overwrite) {
                                 std::string(kBtfSidecarName) + "); refusing to replace it");
 }
 
-void writeSidecar(const fs::path& path, const BtfSource& source, BtfImageFormat format, float value_scale) {
+void writeSidecar(const fs::path& path, const BtfSource& source, const BtfImageWriteOptions& options, float value_scale) {
+  const BtfImageFormat format = options.format;
   nlohmann::json doc{{"value_scale", value_scale},
+                     {"layout", btfImageLayoutName(options.layout)},
                      {"width", source.width()},
                      {"height", source.height()},
                      {"views", source.views().count()},
@@ -504,6 +644,7 @@ void writeSidecar(const fs::path& path, const BtfSource& source, BtfImageFormat 
                      {"source", source.name()},
                      {"value", "apparent BRDF (1/sr); integer images hold transfer(code / max_code) * value_scale"}};
   if (format != BtfImageFormat::Exr) doc["transfer"] = btfTransferName(btfWriterTransfer(format));
+  else doc["color_space"] = options.layout == BtfImageLayout::Utia ? "xyz" : "rec709";
   std::ofstream out(path);
   out << doc.dump(2) << "\n";
   out.flush();
@@ -516,6 +657,8 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
   // A trailing slash would make the temporary folder a child instead of a sibling.
   const fs::path folder = folder_in.has_filename() ? folder_in : folder_in.parent_path();
   if (folder.empty()) throw FileError(folder_in, "is not a folder name to write");
+  source.views().requireUbo2003("the image-folder layout (" + folder.filename().string() +
+                                 ": files are named by the 81 directions' whole-degree angles)");
   requireReplaceable(folder, options.overwrite);
   const bool is_png = options.format != BtfImageFormat::Exr;
   float value_scale = 1.0f;
@@ -547,10 +690,17 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
         throw Error(source.name() + ": view " + std::to_string(view) + " has " + std::to_string(values.size()) +
                     " values, expected " + std::to_string(texels * kBtfDirectionCount));
       for (std::size_t i = 0; i < values.size(); ++i) requireValidValue(source, view, i, values[i]);
+      // The UTIA layout: a folder per view, and float images in CIE XYZ as that database keeps them.
+      if (options.layout == BtfImageLayout::Utia) {
+        const fs::path sub = temporary / fs::path(btfImagePath(view, 0, options.format, options.layout)).parent_path();
+        if (!fs::create_directory(sub, ec)) throw FileError(sub, "cannot be created: " + ec.message());
+        if (options.format == BtfImageFormat::Exr)
+          for (Rgb& v : values) v = rec709ToXyz(v);
+      }
       std::vector<std::exception_ptr> errors(kBtfDirectionCount);
       tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
         try {
-          const fs::path path = temporary / btfImageName(view, light, options.format);
+          const fs::path path = temporary / btfImagePath(view, light, options.format, options.layout);
           writeOneImage(path, width, height, options.format, values.data() + std::size_t(light) * texels, value_scale);
           progress.advance();
         } catch (...) {
@@ -559,7 +709,7 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
       });
       rethrowFirst(errors);
     }
-    writeSidecar(temporary / kBtfSidecarName, source, options.format, value_scale);
+    writeSidecar(temporary / kBtfSidecarName, source, options, value_scale);
 
     // Swap in: move an old folder aside first, so the destination name always holds a whole BTF.
     fs::path old;

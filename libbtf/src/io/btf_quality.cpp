@@ -153,13 +153,16 @@ class SsimSums {
  public:
   SsimSums(const BtfSource& reference, float white, int window)
       : width_(reference.width()), height_(reference.height()), pixels_(reference.texelCount()), window_(window),
-        inv_white_(1.0f / white), image_ssim_(kBtfDirectionCount), image_error2_(kBtfDirectionCount),
-        image_reference2_(kBtfDirectionCount) {
+        inv_white_(1.0f / white) {
     stats_.white = white;
   }
 
   void add(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
-    tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
+    const int lights = int(a.size() / pixels_);  // this view's
+    image_ssim_.assign(std::size_t(lights), 0.0);
+    image_error2_.assign(std::size_t(lights), 0.0);
+    image_reference2_.assign(std::size_t(lights), 0.0);
+    tbb::parallel_for(0, lights, [&](int light) {
       SsimScratch& s = scratch_.local();
       s.x.resize(pixels_);
       s.y.resize(pixels_);

@@ -13,6 +13,9 @@ BtfSubset::BtfSubset(const BtfSource& source, const BtfRect& rect, BtfViewSet vi
     throw Error(source.name() + ": the texel rectangle (" + std::to_string(rect.x) + ", " + std::to_string(rect.y) +
                 ") + " + std::to_string(rect.width) + " x " + std::to_string(rect.height) + " is not inside its " +
                 std::to_string(source.width()) + " x " + std::to_string(source.height()) + " texels");
+  if (!(views_.directions() == source.directions()))
+    throw Error("a subset of " + source.name() + ": its views are on " + views_.directions().describe() +
+                ", the BTF's on " + source.directions().describe());
   for (const int v : views_.views()) source.views().require(v, "a subset of " + source.name());
   name_ = source.name();
   if (rect.width != source.width() || rect.height != source.height())
@@ -31,11 +34,12 @@ void BtfSubset::loadView(int view, std::vector<Rgb>& out) const {
   std::vector<Rgb> full;
   source_.loadView(view, full);
   const std::size_t sw = std::size_t(source_.width()), sh = std::size_t(source_.height());
-  if (full.size() != std::size_t(kBtfDirectionCount) * sw * sh)
+  const int lights = source_.directions().lightCount(view);
+  if (full.size() != std::size_t(lights) * sw * sh)
     throw Error(source_.name() + ": view " + std::to_string(view) + " has the wrong number of values");
-  out.resize(std::size_t(kBtfDirectionCount) * texelCount());
+  out.resize(std::size_t(lights) * texelCount());
   Rgb* dst = out.data();
-  for (int light = 0; light < kBtfDirectionCount; ++light)
+  for (int light = 0; light < lights; ++light)
     for (int y = 0; y < rect_.height; ++y) {
       const Rgb* row = full.data() + (std::size_t(light) * sh + std::size_t(rect_.y + y)) * sw + std::size_t(rect_.x);
       dst = std::copy(row, row + rect_.width, dst);

@@ -10,6 +10,7 @@
 #include "btf/core/fast_atan.h"
 #include "btf/core/fast_trig.h"
 #include "btf/core/math.h"
+#include "btf/io/bonn_btf.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/container.h"
 #include "btf/material/registry.h"
@@ -137,6 +138,7 @@ BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter fi
   // Interpolation over wo needs whole rings from the pole; a BTF of other views (a few scattered
   // ones) has no sensible value between them.
   const BtfViewSet& views = btf_->lookupViews();
+  views.requireUbo2003("a BTF material (" + name_ + ": evaluation and sampling interpolate on its rings)");
   view_rings_ = views.completeRingsFromPole();
   if (view_rings_ == 0 || views.count() != btfRingStart(view_rings_ - 1) + btfRingSize(view_rings_ - 1))
     throw Error("BtfMaterial needs the views of whole rings from the pole (e.g. all views up to theta 45); the BTF holds " +
@@ -277,6 +279,10 @@ std::shared_ptr<const BtfSource> btfSourceParam(const MaterialParams& p) {
     if (!material.empty()) p.fail("material", "names a material of a .btfz database only");
     return std::make_shared<BtfImageFolder>(BtfImageFolder::open(file));
   }
+  if (isBonnBtfFile(file)) {
+    if (!material.empty()) p.fail("material", "names a material of a .btfz database only");
+    return std::make_shared<BonnBtf>(BonnBtf::open(file));
+  }
   return std::make_shared<VqBtf>(VqBtf::read(file, material));
 }
 
@@ -284,9 +290,15 @@ std::shared_ptr<const BtfSource> btfSourceParam(const MaterialParams& p) {
 
 // "mapping", "uv_scale" and "axis" place the texture on a shape; the scene loader reads them.
 BTF_REGISTER_MATERIAL(btf, {.name = "btf",
-                            .summary = "a BTF: an image folder or a VQ-compressed .btfz (one material of a database)",
+                            .summary = "a BTF: an image folder, a Bonn .btf file or a VQ-compressed .btfz (one "
+                                       "material of a database)",
                             .keys = {"file", "material", "filter", "mapping", "uv_scale", "axis"},
                             .formats = {{.description = "image-folder BTF", .folder = true},
+                                        {.description = "Bonn BTF file (.btf: DFMF, FMF or PVF)",
+                                         .extensions = {".btf"},
+                                         .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
+                                           return isBonnBtfSignature(head.data(), head.size());
+                                         }},
                                         {.description = "VQ-compressed BTF (.btfz)",
                                          .extensions = {".btfz"},
                                          .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
@@ -301,6 +313,9 @@ BTF_REGISTER_MATERIAL(btf, {.name = "btf",
                                 else if (f != "bilinear") p.fail("filter", "expected bilinear or nearest");
                               }
                               std::shared_ptr<const BtfSource> source = btfSourceParam(p);
+                              // Before any copy: a BTF on another set would be copied whole for nothing.
+                              source->views().requireUbo2003("a BTF material (" + source->name() +
+                                                             ": evaluation and sampling interpolate on its rings)");
                               std::shared_ptr<const BtfLookup> lookup = std::dynamic_pointer_cast<const BtfLookup>(source);
                               if (!lookup) lookup = std::make_shared<BtfData>(BtfData::copyOf(*source));
                               const std::filesystem::path file = p.path("file");

@@ -9,6 +9,7 @@
 
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
+#include "btf/io/bonn_btf.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/container.h"
 #include "material_input.h"
@@ -25,6 +26,9 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
   if (json) {
     std::cout << nlohmann::json{{"file", folder.string()},
                                 {"format", "image-folder BTF"},
+                                {"layout", btfImageLayoutName(btf.layout())},
+                                {"directions", btf.directions().describe()},
+                                {"float_color_space", btf.colorSpace() == BtfColorSpace::Xyz ? "CIE XYZ (D65)" : "linear Rec.709"},
                                 {"texels", {btf.width(), btf.height()}},
                                 {"views", btf.views().views()},
                                 {"images", views * kBtfDirectionCount},
@@ -37,11 +41,18 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
               << '\n';
     return;
   }
-  std::printf("%s: image-folder BTF, %d x %d texels, %s x 81 lights (%d %s images)\n", folder.c_str(), btf.width(),
-              btf.height(), btf.views().describe().c_str(), views * kBtfDirectionCount, ext.c_str());
+  std::printf("%s: image-folder BTF (%s layout), %d x %d texels, %s x 81 lights (%d %s images)\n", folder.c_str(),
+              btfImageLayoutName(btf.layout()).c_str(), btf.width(), btf.height(), btf.views().describe().c_str(),
+              views * kBtfDirectionCount, ext.c_str());
+  if (btf.directionList())
+    std::printf("directions  %s: where light and camera coincide, the light as moved aside (%s)\n",
+                btf.directions().describe().c_str(), btf.directionList()->filename().c_str());
   if (transfer)
     std::printf("integer images: value = %s(code / max code) x %g (apparent BRDF, 1/sr)\n",
                 *transfer == BtfTransfer::Srgb ? "srgb_to_linear" : "", btf.valueScale());
+  else if (btf.colorSpace() == BtfColorSpace::Xyz)
+    std::printf("float images: CIE XYZ (D65 white), converted to linear Rec.709 (sRGB primaries); values are the "
+                "apparent BRDF (1/sr)\n");
   else
     std::printf("float images: values are the apparent BRDF (1/sr)\n");
   std::printf("checked: btf.json, the names and every image's header (size, channels); not the pixels\n");
@@ -144,6 +155,79 @@ void runDatabaseInfo(const std::filesystem::path& file, const std::vector<Contai
   printSections(shared);
 }
 
+std::string colorModelText(const BonnBtfHeader& h) {
+  switch (h.layout) {
+    case BonnBtfLayout::Dfmf:
+      return "colour model " + std::to_string(h.color_model) + " (" + bonnColorModelName(h.color_model) + ")";
+    case BonnBtfLayout::Fmf:
+      return h.dynamic_range_reduction ? "RGB, stored as log(x + 1e-5)" : "RGB";
+    case BonnBtfLayout::Pvf: return "RGB";
+  }
+  return "?";
+}
+
+// A Bonn .btf file from its headers alone: every count and size is read and checked against the
+// file's length, no factor is decoded (so it answers at once for a 1 GB file).
+void runBonnInfo(const std::filesystem::path& file, bool json) {
+  const BonnBtfHeader h = readBonnBtfHeader(file);
+  const BtfDirectionSet& set = *h.directions;
+  std::uint64_t factor_bytes = 0;
+  nlohmann::json factors = nlohmann::json::array();
+  for (const BonnBtfFactor& f : h.factors) {
+    factor_bytes += f.bytes();
+    factors.push_back({{"components", f.components}, {"rows", f.rows}, {"columns", f.columns},
+                       {"scalar_bytes", f.scalar_bytes}, {"bytes", f.bytes()}});
+  }
+  const std::uint64_t texels = std::uint64_t(h.width) * std::uint64_t(h.height);
+  const nlohmann::json facts{{"file", file.string()},
+                             {"format", "Bonn BTF (" + bonnBtfLayoutName(h.layout) + ")"},
+                             {"signature", h.signature},
+                             {"meta_version", h.meta_version},
+                             {"measurement_setup", h.measurement_setup},
+                             {"image_sensor", h.image_sensor},
+                             {"light_source", h.light_source},
+                             {"pixels_per_mm", h.pixels_per_mm},
+                             {"rgb_scale", h.rgb_scale},
+                             {"cosine_in_data", h.cosine_flag},
+                             {"channels", h.channel_names},
+                             {"xml_bytes", h.xml.size()},
+                             {"texels", {h.width, h.height}},
+                             {"views", set.viewCount()},
+                             {"lights_per_view_max", set.maxLightCount()},
+                             {"shared_lights", set.sharedLights()},
+                             {"directions", set.describe()},
+                             {"rotations", h.rotation_count},
+                             {"values", colorModelText(h)},
+                             {"factors", factors},
+                             {"entries", texels * set.pairCount()},
+                             {"bytes", h.file_bytes}};
+  if (json) {
+    std::cout << facts.dump(2) << '\n';
+    return;
+  }
+  std::printf("%s: Bonn BTF file, %s (signature %s, meta data version %u)\n", file.c_str(),
+              bonnBtfLayoutName(h.layout).c_str(), h.signature.c_str(), h.meta_version);
+  std::printf("texels      %d x %d\n", h.width, h.height);
+  std::printf("directions  %s\n", set.describe().c_str());
+  std::printf("set-up      %s | sensor %s | light %s\n", h.measurement_setup.empty() ? "-" : h.measurement_setup.c_str(),
+              h.image_sensor.empty() ? "-" : h.image_sensor.c_str(), h.light_source.empty() ? "-" : h.light_source.c_str());
+  std::printf("scale       %g pixels/mm, RGB scale (%g, %g, %g)%s\n", double(h.pixels_per_mm), double(h.rgb_scale[0]),
+              double(h.rgb_scale[1]), double(h.rgb_scale[2]),
+              h.cosine_flag ? "; values hold f cos(theta_l), divided out on reading" : "");
+  std::printf("values      %s, decoded to linear RGB (apparent BRDF, 1/sr)\n", colorModelText(h).c_str());
+  if (h.rotation_count) std::printf("rotations   %u local frames stored\n", h.rotation_count);
+  const char* what = h.layout == BonnBtfLayout::Dfmf ? "channel" : h.layout == BonnBtfLayout::Fmf ? "matrix" : "view";
+  std::printf("factors     %zu (%s): ", h.factors.size(), h.layout == BonnBtfLayout::Pvf ? "one per view" : what);
+  for (std::size_t i = 0; i < std::min<std::size_t>(h.factors.size(), 4); ++i)
+    std::printf("%s%u components x (%u + %u) x %d bytes", i ? "; " : "", h.factors[i].components, h.factors[i].rows,
+                h.factors[i].columns, h.factors[i].scalar_bytes);
+  std::printf("%s\n", h.factors.size() > 4 ? "; ..." : "");
+  std::printf("bytes       %llu (%llu of factors); the %.3g G RGB values it encodes would take %.3g GB as float\n",
+              static_cast<unsigned long long>(h.file_bytes), static_cast<unsigned long long>(factor_bytes),
+              double(texels * set.pairCount()) * 1e-9, double(texels * set.pairCount()) * 12e-9);
+  std::printf("checked: the headers, every factor's dimensions and the file's length; no factor decoded\n");
+}
+
 void runBtfzInfo(const std::filesystem::path& file, bool json) {
   const std::vector<ContainerSection> sections = readContainer(file);
   const bool database = std::any_of(sections.begin(), sections.end(),
@@ -157,6 +241,7 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
 void runBtfInfo(const std::filesystem::path& path, bool json) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) runFolderInfo(path, json);
+  else if (isBonnBtfFile(path)) runBonnInfo(path, json);
   else runBtfzInfo(path, json);
 }
 

@@ -1,5 +1,7 @@
 #include "material_input.h"
 
+#include "btf/compress/vq_btf.h"
+
 #include <algorithm>
 
 #include "btf/core/error.h"
@@ -18,7 +20,9 @@ BtfInput openBtfInput(IdentifiedMaterial material) {
   BtfInput input{std::move(material), nullptr, "", false};
   input.source = materialBtf(input.material);
   input.description = input.material.description;
-  if (isBtf(input.material)) input.compressed = input.material.format && !input.material.format->folder;
+  // A .btfz is VQ-compressed; a Bonn .btf is factorised too, but it is the measured data as
+  // distributed, what users compress.
+  if (isBtf(input.material)) input.compressed = std::dynamic_pointer_cast<const VqBtf>(input.source) != nullptr;
   else input.description += " as a one-texel BTF at 81 x 81 directions";
   return input;
 }

@@ -86,14 +86,22 @@ void runBtfCompare(const CompareOptions& o) {
 }
 
 void runCompare(const CompareOptions& o) {
+  // A BTF is what the registry opens as one (a folder, a Bonn .btf, a .btfz); anything else is
+  // compared as an image, whose reader names its own problems.
   std::error_code ec;
-  auto isBtf = [&](const std::string& p) {
-    return std::filesystem::is_directory(p, ec) || std::filesystem::path(p).extension() == ".btfz";
+  auto isBtfPath = [&](const std::string& p) {
+    if (std::filesystem::is_directory(p, ec)) return true;
+    try {
+      return isBtf(identifyMaterial(p));
+    } catch (const Error&) {
+      return false;
+    }
   };
-  if (isBtf(o.test) || isBtf(o.reference)) {
-    if (!isBtf(o.test) || !isBtf(o.reference))
+  const bool test_btf = isBtfPath(o.test), reference_btf = isBtfPath(o.reference);
+  if (test_btf || reference_btf) {
+    if (!test_btf || !reference_btf)
       throw Error("compare: " + o.test + " and " + o.reference +
-                  " must both be images or both be BTFs (image folders or .btfz files)");
+                  " must both be images or both be BTFs (image folders, Bonn .btf or .btfz files)");
     runBtfCompare(o);
     return;
   }

@@ -1,7 +1,9 @@
 // `btf convert IN OUT`: between the MERL-layout table formats. MERL .binary <-> EXR stack of
 // half/diff slices (layout in btf/io/merl_exr_stack.h); any other BRDF the registry opens (an RGL
-// .bsdf, a fit, a merl-fit spec) converts to either by tabulating it into the MERL layout; any of them converts to an octree table (.octree,
-// compress/octree_table.h) with --tolerance, and an octree back to a table.
+// .bsdf, a fit, a merl-fit spec) converts to either by tabulating it into the MERL layout; any of
+// them converts to an octree table (.octree, compress/octree_table.h) with --tolerance, and an
+// octree back to a table. And between BTF layouts: any BTF the registry opens (an image folder, a
+// Bonn .btf file, a .btfz) to an image folder or a Bonn .btf file (support/btf_output.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,7 +17,9 @@
 #include "btf/io/image.h"
 #include "btf/io/merl_exr_stack.h"
 #include "btf/material/registry.h"
+#include "btf_output.h"
 #include "commands.h"
+#include "material_input.h"
 
 namespace btf::cli {
 namespace {
@@ -24,6 +28,7 @@ struct ConvertOptions {
   std::string in, out;
   double tolerance = 0;
   bool tolerance_given = false;
+  BtfOutputOptions btf;
 };
 
 // The largest relative difference of a measured cell from its stored value: the quantity the
@@ -78,8 +83,12 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
 }
 
 void runConvert(const ConvertOptions& o) {
-  const TableOutput to = tableOutputOf(o.out);
   const IdentifiedMaterial from = identifyMaterial(o.in);
+  if (isBtf(from)) {
+    if (o.tolerance_given) throw Error("--tolerance applies to an .octree output of a BRDF, not to the BTF " + o.in);
+    return writeBtfOutput(*materialBtf(from), o.out, o.btf);
+  }
+  const TableOutput to = tableOutputOf(o.out);
   const bool same = from.format == &formatOf(o.out);
   if (same && to != TableOutput::Octree)  // an octree may be rebuilt at another tolerance
     throw FileError(o.out, "has the same format as " + o.in + "; convert changes the format");
@@ -99,10 +108,16 @@ void registerConvertCommand(CLI::App& app) {
       "convert",
       "Convert between MERL-layout tables: MERL .binary <-> EXR stack (.exr: 90 parts, one per theta_h index, each 180x90 RGB "
       "float of phi_d x theta_d with f in 1/sr; unmeasured samples stay negative), -> octree (.octree, lossless at tolerance "
-      "0), and from an RGL .bsdf or a btf fit .json by tabulating it");
+      "0), and from an RGL .bsdf or a btf fit .json by tabulating it. A BTF (image folder, Bonn .btf, .btfz) converts to "
+      "an image folder or a Bonn .btf file (OUT ending in .btf: DFMF, FMF or PVF by a truncated SVD)");
   auto o = std::make_shared<ConvertOptions>();
-  cmd->add_option("IN", o->in, "Input: any BRDF the registry opens (.binary, .exr, .octree, .bsdf, a fit .json, merl-fit:MODEL:NAME)")->required();
-  cmd->add_option("OUT", o->out, "Output (.binary, .exr or .octree), written atomically")->required();
+  cmd->add_option("IN", o->in,
+                  "Input: any BRDF the registry opens (.binary, .exr, .octree, .bsdf, a fit .json, merl-fit:MODEL:NAME), "
+                  "or a BTF (an image folder, a Bonn .btf, a .btfz)")
+      ->required();
+  cmd->add_option("OUT", o->out, "Output (.binary, .exr or .octree; for a BTF a folder or .btf), written atomically")
+      ->required();
+  addBtfOutputOptions(*cmd, o->btf);
   cmd->add_option_function<double>(
          "--tolerance",
          [o](double t) {

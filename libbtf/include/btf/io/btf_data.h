@@ -1,13 +1,14 @@
-// Measured BTF data: RGB reflectance over texels (x, y) x 81 view directions x 81 light
-// directions (btf_directions.h). The value is what image-based BTF measurements store: the
+// Measured BTF data: RGB reflectance over texels (x, y) x the (view, light) pairs of a direction
+// set (core/btf_direction_set.h; the 81 x 81 UBO2003 set unless the data says otherwise). The value is what image-based BTF measurements store: the
 // reflected radiance towards the view over the irradiance a flat sample would receive from the
 // light, i.e. an "apparent BRDF" (1/sr) that includes the microgeometry's masking, shadowing and
 // interreflection; a flat sample of a BRDF f gives f itself.
 //
-// BtfSource is the streaming interface: a consumer asks for one view at a time (all 81 lights for
-// every texel, 81 * width * height RGB values: 64 MiB for 256 x 256 texels), so a 256 x 256 BTF
-// (5 GiB as float) never has to sit in memory whole. A source may hold only some of the 81 views
-// (core/btf_view_set.h): consumers loop over views() and ask for no other. Readers (btf_images.h), the compressed forms
+// BtfSource is the streaming interface: a consumer asks for one view at a time (all of the view's
+// lights for every texel: on the 81 set 81 * width * height RGB values, 64 MiB for 256 x 256
+// texels), so a 256 x 256 BTF (5 GiB as float) never has to sit in memory whole. A source may hold
+// only some of its set's views (core/btf_view_set.h): consumers loop over views() and ask for no
+// other; views().directions() is the set. Readers (btf_images.h), the compressed forms
 // (compress/) and the in-memory BtfData all implement it, so comparisons and converters work on
 // any pair of them.
 #pragma once
@@ -30,9 +31,11 @@ class BtfSource {
   virtual ~BtfSource() = default;
   virtual int width() const = 0;
   virtual int height() const = 0;
-  // The views the source holds (all 81 unless it says otherwise).
+  // The views the source holds, and through them its direction set (all 81 UBO2003 views unless
+  // it says otherwise).
   virtual const BtfViewSet& views() const;
-  // Fills out (resized) with the view's values, light-major: out[(light * height + y) * width + x].
+  // Fills out (resized to viewValueCount(view)) with the view's values, light-major:
+  // out[(light * height + y) * width + x], lights in the set's order for that view.
   // Throws btf::Error / FileError (naming the file) on unreadable data or a view not held.
   virtual void loadView(int view, std::vector<Rgb>& out) const = 0;
   // Short description for reports, e.g. the folder name.
@@ -41,9 +44,12 @@ class BtfSource {
   // largest code (value_scale). Perceptual measures clip to it as the camera did.
   virtual std::optional<float> white() const { return std::nullopt; }
 
+  const BtfDirectionSet& directions() const { return views().directions(); }
   std::size_t texelCount() const { return std::size_t(width()) * std::size_t(height()); }
-  // Entries of the whole BTF: texels x held views x 81 lights (each an RGB triple).
-  std::size_t entryCount() const { return texelCount() * std::size_t(views().count()) * kBtfDirectionCount; }
+  // Values of one view: its lights x texels.
+  std::size_t viewValueCount(int view) const { return std::size_t(directions().lightCount(view)) * texelCount(); }
+  // Entries of the whole BTF: texels x the held views' (view, light) pairs (each an RGB triple).
+  std::size_t entryCount() const;
 };
 
 // Random access to single entries, for evaluation (material/btf_material.h). Implemented by the
@@ -58,7 +64,7 @@ class BtfLookup {
   virtual ~BtfLookup() = default;
   virtual int lookupWidth() const = 0;
   virtual int lookupHeight() const = 0;
-  // The views value() answers for (all 81 unless it says otherwise).
+  // The views value() answers for (all 81 unless it says otherwise), and so the direction set.
   virtual const BtfViewSet& lookupViews() const;
   virtual Rgb value(int x, int y, int view, int light) const = 0;
   // A stream of lookups (after Embree's stream calls): out[i] = value(samples[i]), bit for bit.
@@ -73,8 +79,9 @@ class BtfLookup {
 };
 
 // A BTF held in memory, view-major: at(x, y, view, light). For tests, small generated data and
-// one-texel BTFs made from BRDFs. Only the held views take memory; at() and view() of a view not
-// held is a programming error (checked in debug builds only: they are the hot accessors).
+// one-texel BTFs made from BRDFs. Only the held views take memory, on any direction set (that of
+// `views`); at() and view() of a view not held is a programming error (checked in debug builds
+// only: they are the hot accessors).
 class BtfData final : public BtfSource, public BtfLookup {
  public:
   // Zero-filled; throws for sizes < 1.
@@ -93,10 +100,9 @@ class BtfData final : public BtfSource, public BtfLookup {
 
   Rgb& at(int x, int y, int view, int light) { return values_[index(x, y, view, light)]; }
   const Rgb& at(int x, int y, int view, int light) const { return values_[index(x, y, view, light)]; }
-  // The view's block, light-major as loadView writes it.
-  Rgb* view(int view) { return values_.data() + slotOf(view) * viewSize(); }
-  const Rgb* view(int view) const { return values_.data() + slotOf(view) * viewSize(); }
-  std::size_t viewSize() const { return std::size_t(kBtfDirectionCount) * texelCount(); }
+  // The view's block, light-major as loadView writes it (viewValueCount(view) values).
+  Rgb* view(int view) { return values_.data() + view_offsets_[slotOf(view)]; }
+  const Rgb* view(int view) const { return values_.data() + view_offsets_[slotOf(view)]; }
 
   // Reads a whole source into memory, the views it holds (progress reported per view).
   static BtfData copyOf(const BtfSource& source);
@@ -104,12 +110,13 @@ class BtfData final : public BtfSource, public BtfLookup {
  private:
   std::size_t slotOf(int view) const;
   std::size_t index(int x, int y, int view, int light) const {
-    return ((slotOf(view) * kBtfDirectionCount + std::size_t(light)) * std::size_t(height_) + std::size_t(y)) *
-               std::size_t(width_) + std::size_t(x);
+    return view_offsets_[slotOf(view)] + (std::size_t(light) * std::size_t(height_) + std::size_t(y)) * std::size_t(width_) +
+           std::size_t(x);
   }
   int width_, height_;
   std::string name_;
   BtfViewSet views_;
+  std::vector<std::size_t> view_offsets_;  // per slot, into values_
   std::optional<float> white_;
   std::vector<Rgb> values_;
 };

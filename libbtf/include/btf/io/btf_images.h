@@ -33,6 +33,10 @@
 namespace btf {
 
 enum class BtfImageFormat { Png8, Png16, Exr };
+enum class BtfImageLayout { Ubo2003, Utia };
+std::string btfImageLayoutName(BtfImageLayout layout);  // "UBO2003", "UTIA"
+// The colour space of float images: linear Rec.709 primaries, or CIE XYZ (D65 white).
+enum class BtfColorSpace { Rec709, Xyz };
 
 // How integer codes map to linear values (see above).
 enum class BtfTransfer { Srgb, Linear };
@@ -51,8 +55,10 @@ struct BtfImagePair {
   int light;
 };
 std::optional<BtfImagePair> parseBtfImageName(std::string_view file_name);
-// The canonical name our writer uses, e.g. "tv030_pv060_tl045_pl120.png".
+// The canonical name our writer uses, e.g. "tv030_pv060_tl045_pl120.png"; in the UTIA layout the
+// path inside the folder, e.g. "tv030_pv060/tl045_pl120_tv030_pv060.png".
 std::string btfImageName(int view, int light, BtfImageFormat format);
+std::string btfImagePath(int view, int light, BtfImageFormat format, BtfImageLayout layout);
 
 // The name of the sidecar with value_scale and transfer (and facts for people: size, format, source).
 inline constexpr const char* kBtfSidecarName = "btf.json";
@@ -86,6 +92,12 @@ class BtfImageFolder final : public BtfSource {
   float valueScale() const { return value_scale_; }
   // The transfer of the folder's (first) images; nothing for float images.
   std::optional<BtfTransfer> transfer() const;
+  BtfImageLayout layout() const { return layout_; }
+  // The colour space of float images: XYZ in the UTIA layout, Rec.709 otherwise, unless btf.json's
+  // "color_space" ("xyz" or "rec709") says.
+  BtfColorSpace colorSpace() const { return color_space_; }
+  // The direction list btf.json names (UTIA's shifted lights), if any.
+  const std::optional<std::filesystem::path>& directionList() const { return direction_list_; }
 
  private:
   BtfImageFolder() = default;
@@ -100,6 +112,9 @@ class BtfImageFolder final : public BtfSource {
   std::filesystem::path folder_;
   std::vector<std::filesystem::path> paths_;  // view * 81 + light
   BtfViewSet views_;
+  BtfImageLayout layout_ = BtfImageLayout::Ubo2003;
+  BtfColorSpace color_space_ = BtfColorSpace::Rec709;
+  std::optional<std::filesystem::path> direction_list_;
   float value_scale_ = 1.0f;
   std::optional<BtfTransfer> transfer_override_;  // btf.json's, if it has one
   StoredType first_type_;
@@ -108,6 +123,8 @@ class BtfImageFolder final : public BtfSource {
 
 struct BtfImageWriteOptions {
   BtfImageFormat format = BtfImageFormat::Exr;
+  // UTIA: per-view subfolders, and EXR images in CIE XYZ (D65) as that database stores them.
+  BtfImageLayout layout = BtfImageLayout::Ubo2003;
   // For PNG: the value of the largest code. Without it the writer first reads the whole source
   // once to find its largest value (a second pass over a generated source).
   std::optional<float> value_scale;
