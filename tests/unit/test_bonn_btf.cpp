@@ -153,6 +153,23 @@ TEST(BonnBtf, DfmfDecodesTheProductOfTheFactors) {
     }
 }
 
+// A DFMF file of one view, one light and one texel whose stored (decorrelated) triple is `stored`.
+BonnFileSpec oneEntryFile(std::int32_t model, const std::array<double, 3>& stored) {
+  BonnFileSpec s;
+  s.views = {{0, 0}};
+  s.lights = {{{0, 0}}};
+  s.color_model = model;
+  for (const double value : stored) {
+    BonnFactorBytes f;
+    f.rows = f.columns = f.components = 1;
+    f.sigma = {1};
+    f.u = {1};
+    f.sv = {value};
+    s.factors.push_back(f);
+  }
+  return s;
+}
+
 // Each colour model decodes a stored triple as btflib's undecorrelate does (written out here).
 TEST(BonnBtf, ColourModelsDecodeAsBtflibDoes) {
   test::TempDir dir;
@@ -181,41 +198,18 @@ TEST(BonnBtf, ColourModelsDecodeAsBtflibDoes) {
       {12, {std::exp(y) - eps, std::exp(u) - eps, std::exp(w) - eps}},
   };
   for (const Case& c : cases) {
-    BonnFileSpec s;
-    s.views = {{0, 0}};
-    s.lights = {{{0, 0}}};
-    s.color_model = c.model;
-    for (const double stored : {y, u, w}) {
-      BonnFactorBytes f;
-      f.rows = f.columns = f.components = 1;
-      f.sigma = {1};
-      f.u = {1};
-      f.sv = {stored};
-      s.factors.push_back(f);
-    }
-    const BonnBtf btf = writeAndOpen(dir, s);
+    const BonnBtf btf = writeAndOpen(dir, oneEntryFile(c.model, {y, u, w}));
     std::vector<Rgb> out;
     btf.loadView(0, out);
     expectNear(out[0], c.expected[0], c.expected[1], c.expected[2], 1e-5, "colour model " + std::to_string(c.model));
   }
   // Model 3: v * M + mean, M row-major in the file.
-  BonnFileSpec s;
-  s.views = {{0, 0}};
-  s.lights = {{{0, 0}}};
-  s.color_model = 3;
+  BonnFileSpec s = oneEntryFile(3, {0.2, 0.4, 0.6});
   const float m[9] = {0.5f, 0.1f, 0.2f, 0.3f, 0.6f, 0.1f, 0.0f, 0.2f, 0.9f};
   std::copy(m, m + 9, s.color_transform);
   s.color_mean[0] = 0.5f;
   s.color_mean[1] = 0.75f;
   s.color_mean[2] = 1.0f;
-  for (const double stored : {0.2, 0.4, 0.6}) {
-    BonnFactorBytes f;
-    f.rows = f.columns = f.components = 1;
-    f.sigma = {1};
-    f.u = {1};
-    f.sv = {stored};
-    s.factors.push_back(f);
-  }
   std::vector<Rgb> out;
   writeAndOpen(dir, s).loadView(0, out);
   expectNear(out[0], 0.2 * 0.5 + 0.4 * 0.3 + 0.6 * 0.0 + 0.5, 0.2 * 0.1 + 0.4 * 0.6 + 0.6 * 0.2 + 0.75,

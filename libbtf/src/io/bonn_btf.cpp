@@ -494,9 +494,7 @@ struct ColorDecoder {
   static Rgb labToRgb(float l, float a, float b) {
     const auto finv = [](float t) { return t > 6.0f / 29.0f ? t * t * t : 3.0f * (6.0f / 29.0f) * (6.0f / 29.0f) * (t - 4.0f / 29.0f); };
     const float fy = (l + 16.0f) / 116.0f, fx = fy + a / 500.0f, fz = fy - b / 200.0f;
-    const float x = 0.95047f * finv(fx), y = finv(fy), z = 1.08883f * finv(fz);
-    return Rgb(3.2404542f * x - 1.5371385f * y - 0.4985314f * z, -0.9692660f * x + 1.8760108f * y + 0.0415560f * z,
-               0.0556434f * x - 0.2040259f * y + 1.0572252f * z);
+    return xyzToLinearRec709(Rgb(0.95047f * finv(fx), finv(fy), 1.08883f * finv(fz)));
   }
 };
 

@@ -93,9 +93,8 @@ struct ColorEncoder {
 
   // Linear Rec.709 -> CIE Lab (D65 white, L in 0..100), the reader's model 2.
   static std::array<float, 3> lab(const Rgb& c) {
-    const float x = (0.4124564f * c.r + 0.3575761f * c.g + 0.1804375f * c.b) / 0.95047f;
-    const float y = 0.2126729f * c.r + 0.7151522f * c.g + 0.0721750f * c.b;
-    const float z = (0.0193339f * c.r + 0.1191920f * c.g + 0.9503041f * c.b) / 1.08883f;
+    const Rgb xyz = linearRec709ToXyz(c);
+    const float x = xyz.r / 0.95047f, y = xyz.g, z = xyz.b / 1.08883f;
     const auto f = [](float t) {
       constexpr float d = 6.0f / 29.0f;
       return t > d * d * d ? std::cbrt(t) : t / (3.0f * d * d) + 4.0f / 29.0f;

@@ -66,15 +66,6 @@ std::string describePair(int view, int light) {
 
 std::string sizeText(int width, int height) { return std::to_string(width) + " x " + std::to_string(height); }
 
-// CIE XYZ (D65 white) <-> linear Rec.709 / sRGB primaries (IEC 61966-2-1's matrices).
-Rgb xyzToRec709(const Rgb& c) {
-  return Rgb(3.2404542f * c.r - 1.5371385f * c.g - 0.4985314f * c.b, -0.9692660f * c.r + 1.8760108f * c.g + 0.0415560f * c.b,
-             0.0556434f * c.r - 0.2040259f * c.g + 1.0572252f * c.b);
-}
-Rgb rec709ToXyz(const Rgb& c) {
-  return Rgb(0.4124564f * c.r + 0.3575761f * c.g + 0.1804375f * c.b, 0.2126729f * c.r + 0.7151522f * c.g + 0.0721750f * c.b,
-             0.0193339f * c.r + 0.1191920f * c.g + 0.9503041f * c.b);
-}
 
 // Rethrows the error of the lowest index, so a failing parallel loop reports the same error
 // whatever the thread count.
@@ -509,7 +500,7 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
     Rgb v(pixels[3 * i] * scale, pixels[3 * i + 1] * scale, pixels[3 * i + 2] * scale);
     if (xyz && v.isFinite() && v.minComponent() >= 0.0f) {
       // Colours outside the Rec.709 gamut come out slightly negative: 0, as a reflectance is.
-      const Rgb rgb = xyzToRec709(v);
+      const Rgb rgb = xyzToLinearRec709(v);
       v = Rgb(std::max(rgb.r, 0.0f), std::max(rgb.g, 0.0f), std::max(rgb.b, 0.0f));
     }
     if (is_float && (!v.isFinite() || v.minComponent() < 0.0f || v.maxComponent() > kMaxReflectance))
@@ -695,7 +686,7 @@ void writeBtfImageFolder(const BtfSource& source, const fs::path& folder_in, con
         const fs::path sub = temporary / fs::path(btfImagePath(view, 0, options.format, options.layout)).parent_path();
         if (!fs::create_directory(sub, ec)) throw FileError(sub, "cannot be created: " + ec.message());
         if (options.format == BtfImageFormat::Exr)
-          for (Rgb& v : values) v = rec709ToXyz(v);
+          for (Rgb& v : values) v = linearRec709ToXyz(v);
       }
       std::vector<std::exception_ptr> errors(kBtfDirectionCount);
       tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {

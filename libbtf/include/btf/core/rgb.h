@@ -40,4 +40,17 @@ constexpr Rgb operator*(Rgb a, float s) { return a *= s; }
 constexpr Rgb operator*(float s, Rgb a) { return a *= s; }
 constexpr Rgb operator/(Rgb a, float s) { return a /= s; }
 
+// CIE XYZ (D65 white, Y of the white 1) <-> linear Rec.709 / sRGB primaries, by IEC 61966-2-1's
+// matrices. Colours outside the Rec.709 gamut come out with negative components.
+constexpr Rgb xyzToLinearRec709(const Rgb& xyz) {
+  return Rgb(3.2404542f * xyz.r - 1.5371385f * xyz.g - 0.4985314f * xyz.b,
+             -0.9692660f * xyz.r + 1.8760108f * xyz.g + 0.0415560f * xyz.b,
+             0.0556434f * xyz.r - 0.2040259f * xyz.g + 1.0572252f * xyz.b);
+}
+constexpr Rgb linearRec709ToXyz(const Rgb& rgb) {
+  return Rgb(0.4124564f * rgb.r + 0.3575761f * rgb.g + 0.1804375f * rgb.b,
+             0.2126729f * rgb.r + 0.7151522f * rgb.g + 0.0721750f * rgb.b,
+             0.0193339f * rgb.r + 0.1191920f * rgb.g + 0.9503041f * rgb.b);
+}
+
 }  // namespace btf
