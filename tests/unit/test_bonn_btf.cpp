@@ -8,6 +8,8 @@
 #include <cmath>
 #include <fstream>
 
+#include "btf/compress/compressibility.h"
+#include "btf/compress/pca.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/core/btf_direction_set.h"
 #include "btf/core/math.h"
@@ -445,6 +447,28 @@ TEST(BonnBtfWriter, RefusesWhatTheFormatCannotHold) {
   EXPECT_THAT(errorOf([&] { writeBonnBtf(scatteredBtf(3, 2), dir / "x.btf", options); }), HasSubstr("not 2, 4 or 8"));
   const BtfData partial(2, 2, "partial", BtfViewSet({0, 1}));
   EXPECT_THAT(errorOf([&] { writeBonnBtf(partial, dir / "x.btf"); }), HasSubstr("stores every view"));
+}
+
+// PCA and the compressibility analysis work on any set: each view with its own light count.
+TEST(AnyDirectionSet, PcaAndCompressibility) {
+  const BtfData source = scatteredBtf(6, 5, true);
+  const int dimension = 3 * 5;
+  const PcaBtf full = compressPca(source, dimension, PcaPrecision::Float);
+  EXPECT_LT(compareBtf(source, full).rel_rmse, 1e-5);
+  EXPECT_EQ(full.value(2, 3, 2, 4), full.value(2, 3, 2, 4));
+  std::vector<Rgb> view;
+  full.loadView(2, view);
+  EXPECT_NEAR(full.value(2, 3, 2, 4).r, view[4 * 30 + 3 * 6 + 2].r, 1e-6);
+  EXPECT_EQ(full.storedBytes(), PcaBtf::storedBytesFor(6, 5, dimension, PcaPrecision::Float, source.views()));
+  EXPECT_THAT(errorOf([&] { compressPca(source, dimension + 1); }), HasSubstr("outside 0..15"));
+  const PcaBtf small = compressPcaToBytes(source, PcaBtf::storedBytesFor(6, 5, 2, PcaPrecision::Half, source.views()));
+  EXPECT_EQ(small.components(), 2);
+
+  CompressibilityOptions options;
+  options.epsilons = {0.05};
+  const CompressibilityReport report = analyzeCompressibility(source, options);
+  EXPECT_EQ(report.texels, 30);
+  EXPECT_EQ(report.directions, 4 * 5);
 }
 
 // --- bad files --------------------------------------------------------------------------------

@@ -27,12 +27,17 @@ using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::Ro
 constexpr int kOuterRows = 256;
 constexpr int kTaskRows = 32;
 
-// The sampled (view, light) pairs as indices view * 81 + light, ascending: a partial Fisher-Yates
-// shuffle of the pairs of the views held, driven by the seed.
-std::vector<int> chooseDirections(const BtfViewSet& views, int directions, std::uint64_t seed) {
-  std::vector<int> pairs;
+struct SampledPair {
+  int view, light;
+  auto operator<=>(const SampledPair&) const = default;
+};
+
+// The sampled (view, light) pairs, ascending: a partial Fisher-Yates shuffle of the pairs of the
+// views held (each view with its own lights), driven by the seed.
+std::vector<SampledPair> chooseDirections(const BtfViewSet& views, int directions, std::uint64_t seed) {
+  std::vector<SampledPair> pairs;
   for (const int v : views.views())
-    for (int l = 0; l < kBtfDirectionCount; ++l) pairs.push_back(v * kBtfDirectionCount + l);
+    for (int l = 0; l < views.directions().lightCount(v); ++l) pairs.push_back({v, l});
   const int held = int(pairs.size());
   if (directions == 0 || directions >= held) return pairs;
   Rng rng(seed, 0x636f6d7072657373ULL);  // a stream of its own ("compress")
@@ -46,23 +51,23 @@ std::vector<int> chooseDirections(const BtfViewSet& views, int directions, std::
 }
 
 // T x D luminance, views read in order, only those that hold a sampled pair.
-RowMatrix readLuminance(const BtfSource& source, const std::vector<int>& pairs) {
+RowMatrix readLuminance(const BtfSource& source, const std::vector<SampledPair>& pairs) {
   const auto texels = Eigen::Index(source.texelCount());
   RowMatrix x(texels, Eigen::Index(pairs.size()));
   int views_needed = 0;
   for (std::size_t c = 0; c < pairs.size(); ++c)
-    if (c == 0 || pairs[c] / kBtfDirectionCount != pairs[c - 1] / kBtfDirectionCount) ++views_needed;
+    if (c == 0 || pairs[c].view != pairs[c - 1].view) ++views_needed;
   Progress progress("compressibility: reading " + source.name(), std::uint64_t(views_needed));
   std::vector<Rgb> view;
-  const std::size_t expected = std::size_t(kBtfDirectionCount) * std::size_t(texels);
   for (std::size_t c = 0; c < pairs.size();) {
-    const int v = pairs[c] / kBtfDirectionCount;
+    const int v = pairs[c].view;
     source.loadView(v, view);
+    const std::size_t expected = source.viewValueCount(v);
     if (view.size() != expected)
       throw Error(source.name() + ": view " + std::to_string(v) + " has " + std::to_string(view.size()) +
                   " values, expected " + std::to_string(expected));
-    for (; c < pairs.size() && pairs[c] / kBtfDirectionCount == v; ++c) {
-      const Rgb* light = view.data() + std::size_t(pairs[c] % kBtfDirectionCount) * std::size_t(texels);
+    for (; c < pairs.size() && pairs[c].view == v; ++c) {
+      const Rgb* light = view.data() + std::size_t(pairs[c].light) * std::size_t(texels);
       for (Eigen::Index t = 0; t < texels; ++t) x(t, Eigen::Index(c)) = light[t].luminance();
     }
     progress.advance();
@@ -207,7 +212,6 @@ std::vector<double> squaredSingularValues(const RowMatrix& x) {
 }
 
 void checkOptions(const BtfSource& source, const CompressibilityOptions& options) {
-  source.views().requireUbo2003("the compressibility analysis of " + source.name());
   const std::size_t texels = source.texelCount();
   if (texels < 2)
     throw Error(source.name() + ": compressibility needs at least 2 texels, the BTF has " + std::to_string(texels));
@@ -215,7 +219,7 @@ void checkOptions(const BtfSource& source, const CompressibilityOptions& options
     throw Error(source.name() + ": " + std::to_string(texels) + " texels is beyond the compressibility analysis (at most " +
                 std::to_string(kMaxCompressibilityTexels) + ", e.g. 128 x 128; its cost grows as texels^2): use a smaller BTF");
   if (options.directions < 0)
-    throw Error("compressibility: the direction count must be >= 0 (0 for all 6561), got " +
+    throw Error("compressibility: the direction count must be >= 0 (0 for all pairs), got " +
                 std::to_string(options.directions));
   for (double e : options.epsilons)
     if (!(e > 0 && e < 1)) throw Error("compressibility: every epsilon must lie in (0, 1), got " + std::to_string(e));
@@ -230,8 +234,8 @@ double rankRatioU8Bound(int texels, int rank, int pairs) {
 
 CompressibilityReport analyzeCompressibility(const BtfSource& source, const CompressibilityOptions& options) {
   checkOptions(source, options);
-  const std::vector<int> pairs = chooseDirections(source.views(), options.directions, options.seed);
-  const int held_pairs = source.views().count() * kBtfDirectionCount;
+  const std::vector<SampledPair> pairs = chooseDirections(source.views(), options.directions, options.seed);
+  const int held_pairs = int(source.entryCount() / source.texelCount());
   const RowMatrix x = readLuminance(source, pairs);
   const Texels data(x);
   const double energy = std::accumulate(data.norm2.begin(), data.norm2.end(), 0.0);

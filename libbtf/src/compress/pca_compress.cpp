@@ -78,12 +78,12 @@ Eigen::MatrixXd principalAxesFromGram(const Eigen::MatrixXf& x, Eigen::Index k, 
 // Friend of PcaBtf: factorizes one view's values (light-major, as loadView gives them).
 struct PcaViewFactorizer {
   using Stats = PcaViewStats;
-  static PcaBtf::View factorize(std::vector<Rgb>& data, Eigen::Index texels, int components,
+  static PcaBtf::View factorize(std::vector<Rgb>& data, Eigen::Index texels, Eigen::Index lights, int components,
                                 PcaPrecision precision, Stats& stats) {
-    const Eigen::Index dims = kPcaDimension, k = components;
+    const Eigen::Index dims = 3 * lights, k = components;
     // X(t, 3 light + channel), column-major: each column is one (light, channel) over the texels.
     Eigen::MatrixXf x(texels, dims);
-    for (Eigen::Index light = 0; light < kBtfDirectionCount; ++light)
+    for (Eigen::Index light = 0; light < lights; ++light)
       for (Eigen::Index t = 0; t < texels; ++t) {
         const Rgb& v = data[std::size_t(light * texels + t)];
         x(t, 3 * light) = v.r;
@@ -121,7 +121,7 @@ struct PcaViewFactorizer {
     if (used > 0) {
       const Eigen::MatrixXd rounded_d = rounded.leftCols(used).cast<double>();
       const Eigen::MatrixXd gram = rounded_d.transpose() * rounded_d;
-      const Eigen::MatrixXf projector = gram.ldlt().solve(rounded_d.transpose()).cast<float>();  // used x 243
+      const Eigen::MatrixXf projector = gram.ldlt().solve(rounded_d.transpose()).cast<float>();  // used x dims
       coefficients.leftCols(used).noalias() = x * projector.transpose();
     }
 
@@ -140,11 +140,10 @@ struct PcaViewFactorizer {
 };
 
 PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precision) {
-  source.views().requireUbo2003("PCA compression of " + source.name());
   PcaBtf pca;
   const BtfViewSet& views = source.views();
   const int view_count = views.count();
-  PcaBtf::storedBytesFor(source.width(), source.height(), components, precision, view_count);  // validates
+  PcaBtf::storedBytesFor(source.width(), source.height(), components, precision, views);  // validates
   pca.width_ = source.width();
   pca.height_ = source.height();
   pca.components_ = components;
@@ -154,7 +153,6 @@ PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precisi
   pca.views_.resize(std::size_t(view_count));
   std::vector<PcaViewFactorizer::Stats> stats(std::size_t(view_count), PcaViewFactorizer::Stats{});
   const auto texels = Eigen::Index(source.texelCount());
-  const std::size_t expected = std::size_t(kBtfDirectionCount) * std::size_t(texels);
 
   // Views are read one at a time in order (readers need not be thread-safe) and factorized in
   // parallel; at most one view per worker is in memory.
@@ -177,14 +175,16 @@ PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precisi
             auto job = std::make_shared<Job>();
             job->slot = next_slot++;
             source.loadView(views.view(job->slot), job->data);
+            const std::size_t expected = source.viewValueCount(views.view(job->slot));
             if (job->data.size() != expected)
               throw Error(source.name() + ": view " + std::to_string(views.view(job->slot)) + " has " +
                           std::to_string(job->data.size()) + " values, expected " + std::to_string(expected));
             return job;
           }) &
           tbb::make_filter<std::shared_ptr<Job>, void>(tbb::filter_mode::parallel, [&](std::shared_ptr<Job> job) {
+            const Eigen::Index lights = source.directions().lightCount(views.view(job->slot));
             pca.views_[std::size_t(job->slot)] = PcaViewFactorizer::factorize(
-                job->data, texels, components, precision, stats[std::size_t(job->slot)]);
+                job->data, texels, lights, components, precision, stats[std::size_t(job->slot)]);
             progress.advance();
           }));
 

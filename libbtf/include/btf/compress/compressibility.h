@@ -3,7 +3,7 @@
 //
 // Each texel is the vector of its luminances (Rgb::luminance) over D of the 6561 (view, light)
 // pairs, chosen at random by seed (a T x D matrix, T = texels). (Of a BTF holding only some views,
-// its V x 81 pairs: read 6561 below as those.) Three measures:
+// or on another direction set, its pairs: read 6561 below as their number.) Three measures:
 //
 // 1. Nearest neighbour. The scale-optimal relative distance of texel x to texel y is
 //      d(x, y) = min_s |x - s y| / |x| = sqrt(1 - cos^2(x, y)),

@@ -37,7 +37,9 @@ struct PcaViewFactorizer;  // pca_compress.cpp
 
 enum class PcaPrecision : std::uint32_t { Half = 0, Float = 1 };
 
-inline constexpr int kPcaDimension = kBtfDirectionCount * 3;  // 243 values per texel and view
+// Values per texel and view on the 81-direction set (81 lights x RGB); on another set a view has
+// 3 x its light count.
+inline constexpr int kPcaDimension = kBtfDirectionCount * 3;
 inline constexpr std::uint64_t kPcaHeaderBytes = 16;
 
 class PcaBtf final : public BtfSource, public BtfLookup {
@@ -57,12 +59,14 @@ class PcaBtf final : public BtfSource, public BtfLookup {
   int components() const { return components_; }
   PcaPrecision precision() const { return precision_; }
   // Bytes a file of this factorization holds (format above).
-  std::uint64_t storedBytes() const {
-    return storedBytesFor(width_, height_, components_, precision_, view_set_.count());
-  }
-  // The same for a BTF of `views` views (each view is factorized on its own).
+  std::uint64_t storedBytes() const { return storedBytesFor(width_, height_, components_, precision_, view_set_); }
+  // The same for a BTF of `views` views of the 81-direction set (each view is factorized on its
+  // own), and for the views of any set. Throws btf::Error for a size < 1 or k outside 0 .. the
+  // smallest view's dimension (3 x its lights).
   static std::uint64_t storedBytesFor(int width, int height, int components, PcaPrecision precision,
                                       int views = kBtfDirectionCount);
+  static std::uint64_t storedBytesFor(int width, int height, int components, PcaPrecision precision,
+                                      const BtfViewSet& views);
   // Fraction of the (mean-removed) variance that the kept components explain, over all views:
   // sum of the top-k eigenvalues / trace of the covariance (1 for a constant BTF).
   double explainedVariance() const { return explained_variance_; }
@@ -72,8 +76,8 @@ class PcaBtf final : public BtfSource, public BtfLookup {
   friend struct PcaViewFactorizer;
   PcaBtf() = default;
   struct View {
-    std::vector<float> mean;          // 243
-    std::vector<float> basis;         // 243 x k, row-major [d][j], the component scale folded in
+    std::vector<float> mean;          // dimension (3 x the view's lights; 243 on the 81 set)
+    std::vector<float> basis;         // dimension x k, row-major [d][j], the component scale folded in
     std::vector<float> coefficients;  // T x k, row-major [t][j], as decoded from storage
   };
   int width_ = 0, height_ = 0, components_ = 0;
@@ -84,13 +88,17 @@ class PcaBtf final : public BtfSource, public BtfLookup {
   std::vector<View> views_;  // by slot in view_set_
 };
 
-// Factorizes with k components per view (0 <= k <= 243; k = 0 keeps only the mean). Throws
-// btf::Error for a bad k and passes on the source's errors. Reports progress per view.
+// Factorizes with k components per view (0 <= k <= 3 x the fewest lights of a view: 243 on the
+// 81-direction set; k = 0 keeps only the mean), on any direction set. Throws btf::Error for a bad
+// k and passes on the source's errors. Reports progress per view.
 PcaBtf compressPca(const BtfSource& source, int components, PcaPrecision precision = PcaPrecision::Half);
 
-// The largest k whose storedBytes fit in byte_budget (at most 243), or -1 if not even the mean fits.
+// The largest k whose storedBytes fit in byte_budget (at most the smallest view's dimension), or -1
+// if not even the mean fits; for `views` views of the 81-direction set, or the views of any set.
 int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget,
                            PcaPrecision precision = PcaPrecision::Half, int views = kBtfDirectionCount);
+int pcaComponentsForBudget(int width, int height, std::uint64_t byte_budget, PcaPrecision precision,
+                           const BtfViewSet& views);
 // compressPca with pcaComponentsForBudget's k, for "equal storage" comparisons; throws btf::Error
 // if the budget cannot hold even the per-view means.
 PcaBtf compressPcaToBytes(const BtfSource& source, std::uint64_t byte_budget,
