@@ -86,17 +86,30 @@ fs::path emptyFolder(std::string_view name) {
   return folder;
 }
 
-fs::path writeSmallBtfFolder(bool exr) {
-  const auto format = exr ? BtfImageFormat::Exr : BtfImageFormat::Png8;
-  const fs::path folder = emptyFolder("btf-" + btfImageFormatName(format));
+namespace {
+
+fs::path writeSmallFolder(const BtfImageWriteOptions& options, const std::string& name) {
+  const fs::path folder = emptyFolder(name);
   BtfData data(2, 2, "fuzz", BtfViewSet({0}));
   for (int light = 0; light < kBtfDirectionCount; ++light)
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 2; ++x) data.at(x, y, 0, light) = Rgb(0.1f * float(1 + x + 2 * y), 0.2f, 0.3f);
-  BtfImageWriteOptions options;
-  options.format = format;
   writeBtfImageFolder(data, folder, options);
   return folder;
+}
+
+}  // namespace
+
+fs::path writeSmallBtfFolder(bool exr) {
+  BtfImageWriteOptions options;
+  options.format = exr ? BtfImageFormat::Exr : BtfImageFormat::Png8;
+  return writeSmallFolder(options, "btf-" + btfImageFormatName(options.format));
+}
+
+fs::path writeSmallUtiaFolder() {
+  BtfImageWriteOptions options;
+  options.layout = BtfImageLayout::Utia;
+  return writeSmallFolder(options, "btf-utia");
 }
 
 void exerciseMaterial(const Material& material) {

@@ -32,6 +32,8 @@ void writeFile(const std::filesystem::path& path, std::span<const std::uint8_t> 
 // A small valid image-folder BTF written by our writer into the private folder: one view (the
 // pole) of 2 x 2 texels, as EXR or as 8-bit PNG.
 std::filesystem::path writeSmallBtfFolder(bool exr);
+// The same view in the UTIA layout (tv000_pv000/tl..._tv000_pv000.exr, float XYZ).
+std::filesystem::path writeSmallUtiaFolder();
 
 // Runs load(): a btf::Error (a message for the user, naming the file) is the one accepted way to
 // fail. Any other exception escapes to libFuzzer, which reports it as a crash with its input.

@@ -337,6 +337,24 @@ void bonn(const fs::path& out) {
   fs::remove(scratch);
 }
 
+// UTIA's list of shifted lights: the full list (each light moved 4 degrees up where it meets the
+// camera), one with a row off the set, and a truncated one.
+void utiaList(const fs::path& out) {
+  std::string list = "# number theta phi theta_lS phi_lS\n";
+  for (int k = 0; k < btf::kBtfDirectionCount; ++k) {
+    const btf::BtfDirection& d = btf::btfDirections()[std::size_t(k)];
+    char line[96];
+    std::snprintf(line, sizeof line, "%d %g %g %g %g\n", k + 1, double(d.theta_deg), double(d.phi_deg),
+                  double(d.theta_deg + 4.0f), double(d.phi_deg));
+    list += line;
+  }
+  put(out / "shifted.txt", list);
+  std::string off = list;
+  off.replace(off.find("\n2 15 0"), 7, "\n2 16 0");
+  put(out / "off-the-set.txt", off);
+  put(out / "truncated.txt", list.substr(0, list.size() / 2));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -346,7 +364,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   for (const char* target : {"fuzz_merl", "fuzz_rgl", "fuzz_btfz", "fuzz_btf_json", "fuzz_btf_image", "fuzz_exr_stack",
-                             "fuzz_scene", "fuzz_mesh", "fuzz_octree", "fuzz_fit", "fuzz_bonn_btf"})
+                             "fuzz_scene", "fuzz_mesh", "fuzz_octree", "fuzz_fit", "fuzz_bonn_btf", "fuzz_utia_folder"})
     fs::create_directories(out / target);
   merl(out / "fuzz_merl");
   rgl(out / "fuzz_rgl");
@@ -359,5 +377,6 @@ int main(int argc, char** argv) {
   octree(out / "fuzz_octree");
   fit(out / "fuzz_fit");
   bonn(out / "fuzz_bonn_btf");
+  utiaList(out / "fuzz_utia_folder");
   return 0;
 }

@@ -14,7 +14,9 @@
 #include "btf/core/btf_direction_set.h"
 #include "btf/core/math.h"
 #include "btf/io/bonn_btf.h"
+#include "btf/material/material.h"
 #include "btf/material/registry.h"
+#include "btf_test_data.h"
 #include "support/bonn_btf_bytes.h"
 #include "support/test_support.h"
 
@@ -72,9 +74,29 @@ std::size_t pairOffset(const BonnFileSpec& s, std::size_t view) {
 
 std::size_t pairCount(const BonnFileSpec& s) { return pairOffset(s, s.views.size()); }
 
+// value(), one entry from the factors, against loadView's matrix product, everywhere.
+void expectLookupAgrees(const BonnBtf& btf) {
+  std::vector<Rgb> view;
+  for (const int v : btf.views().views()) {
+    btf.loadView(v, view);
+    const int lights = btf.directions().lightCount(v);
+    for (int l = 0; l < lights; ++l)
+      for (int y = 0; y < btf.height(); ++y)
+        for (int x = 0; x < btf.width(); ++x) {
+          const Rgb a = view[(std::size_t(l) * std::size_t(btf.height()) + std::size_t(y)) * std::size_t(btf.width()) +
+                             std::size_t(x)];
+          const Rgb b = btf.value(x, y, v, l);
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(a[c], b[c], 1e-5f * std::max(1.0f, std::abs(a[c]))) << "view " << v << " light " << l;
+        }
+  }
+}
+
 BonnBtf writeAndOpen(const test::TempDir& dir, const BonnFileSpec& spec, const std::string& name = "m.btf") {
   test::writeBytes(dir / name, test::bonnFileBytes(spec));
-  return BonnBtf::open(dir / name);
+  BonnBtf btf = BonnBtf::open(dir / name);
+  expectLookupAgrees(btf);
+  return btf;
 }
 
 void expectNear(const Rgb& got, double r, double g, double b, double tolerance, const std::string& where) {
@@ -598,6 +620,10 @@ TEST(BonnBtf, OpensThroughTheRegistryByContent) {
   EXPECT_EQ(source->entryCount(), 6u * 4 * 5);
   // What is built on the 81-direction rings says so instead of misreading the data.
   EXPECT_THAT(errorOf([&] { compressVq(*source, {}); }), HasSubstr("needs the 81-direction UBO2003 set"));
+  // A file on the 81-direction set renders as a material, read in place (no copy of its values).
+  writeBonnBtf(test::makeGgxBtf(2, 2, false), dir / "ubo.btf");
+  const std::shared_ptr<const Material> material = openMaterial((dir / "ubo.btf").string());
+  EXPECT_GT(material->eval(glm::normalize(glm::vec3(0.2f, 0.1f, 1.0f)), glm::vec3(0, 0, 1), {0.3f, 0.3f}).r, 0.0f);
   EXPECT_THAT(errorOf([&] { openMaterial((dir / "material.dat").string()); }), HasSubstr("needs the 81-direction UBO2003 set"));
   // Comparison needs the same set.
   const BtfData other(3, 2);

@@ -119,7 +119,10 @@ constexpr float kDegreesPerRadian = 57.29577951308232f;
 
 BtfAngles anglesOf(SectionReader& in) {
   const float theta = in.value<float>(), phi = in.value<float>();
-  return {theta * kDegreesPerRadian, phi * kDegreesPerRadian};
+  float theta_deg = theta * kDegreesPerRadian;
+  // A pole computed from a calibrated position may come out a rounding below zero.
+  if (theta_deg < 0.0f && theta_deg > -1e-3f) theta_deg = 0.0f;
+  return {theta_deg, phi * kDegreesPerRadian};
 }
 
 void readSampling(SectionReader& in, BonnBtfHeader& h) {
@@ -504,7 +507,49 @@ struct BonnBtf::Cache {
   std::once_flag once;
   std::vector<FactorData> factors;  // DFMF: per channel; FMF: one
   std::vector<std::size_t> view_pair_offset;
+  // PVF view slots read by value(), each once.
+  std::unique_ptr<std::once_flag[]> slot_once;
+  std::vector<FactorData> slots;
+
+  // DFMF and FMF factors, read on first use.
+  const std::vector<FactorData>& matrixFactors(const fs::path& path, const BonnBtfHeader& h) {
+    std::call_once(once, [&] {
+      SectionReader in(path);
+      for (std::size_t i = 0; i < h.factors.size(); ++i) {
+        in.section(h.layout == BonnBtfLayout::Dfmf ? "DFMF channel " + std::to_string(i) + " factors" : "FMF factors");
+        factors.push_back(readFactor(in, h.factors[i], false));
+      }
+    });
+    return factors;
+  }
+  const FactorData& slot(const fs::path& path, const BonnBtfHeader& h, int view) {
+    std::call_once(slot_once[std::size_t(view)], [&] {
+      SectionReader in(path);
+      in.section("PVF view slot " + std::to_string(view));
+      slots[std::size_t(view)] = readFactor(in, h.factors[std::size_t(view)], true);
+    });
+    return slots[std::size_t(view)];
+  }
 };
+
+namespace {
+
+ColorDecoder decoderOf(const BonnBtfHeader& h) {
+  ColorDecoder decode;
+  decode.model = h.layout == BonnBtfLayout::Dfmf ? h.color_model : 0;
+  decode.log_range = h.layout == BonnBtfLayout::Fmf && h.dynamic_range_reduction != 0;
+  decode.mean = h.color_mean;
+  decode.transform = h.color_transform;
+  return decode;
+}
+
+float rowDot(const float* a, const float* b, std::size_t k) {
+  float sum = 0;
+  for (std::size_t i = 0; i < k; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+}  // namespace
 
 BonnBtf BonnBtf::open(const fs::path& path) {
   BonnBtf btf;
@@ -512,6 +557,10 @@ BonnBtf BonnBtf::open(const fs::path& path) {
   btf.header_ = std::make_shared<const BonnBtfHeader>(readBonnBtfHeader(path));
   btf.views_ = BtfViewSet::all(btf.header_->directions);
   btf.cache_ = std::make_shared<Cache>();
+  if (btf.header_->layout == BonnBtfLayout::Pvf) {
+    btf.cache_->slot_once = std::make_unique<std::once_flag[]>(btf.header_->factors.size());
+    btf.cache_->slots.resize(btf.header_->factors.size());
+  }
   std::size_t offset = 0;
   for (int v = 0; v < btf.header_->directions->viewCount(); ++v) {
     btf.cache_->view_pair_offset.push_back(offset);
@@ -536,21 +585,10 @@ void BonnBtf::loadView(int view, std::vector<Rgb>& out) const {
     in.section("PVF view slot " + std::to_string(view));
     slot.push_back(readFactor(in, h.factors[std::size_t(view)], true));
   } else {
-    std::call_once(cache_->once, [&] {
-      SectionReader in(path_);
-      for (std::size_t i = 0; i < h.factors.size(); ++i) {
-        in.section(h.layout == BonnBtfLayout::Dfmf ? "DFMF channel " + std::to_string(i) + " factors" : "FMF factors");
-        cache_->factors.push_back(readFactor(in, h.factors[i], false));
-      }
-    });
-    factors = &cache_->factors;
+    factors = &cache_->matrixFactors(path_, h);
   }
 
-  ColorDecoder decode;
-  decode.model = h.layout == BonnBtfLayout::Dfmf ? h.color_model : 0;
-  decode.log_range = h.layout == BonnBtfLayout::Fmf && h.dynamic_range_reduction != 0;
-  decode.mean = h.color_mean;
-  decode.transform = h.color_transform;
+  const ColorDecoder decode = decoderOf(h);
   const std::span<const glm::vec3> light_dirs = set.lightDirections(view);
 
   out.resize(lights * texels);
@@ -613,6 +651,46 @@ void BonnBtf::loadView(int view, std::vector<Rgb>& out) const {
                                  std::to_string(i / texels) + ", texel " + std::to_string(i % texels) +
                                  " decodes to a value that is not finite or beyond 1e10 (colour model " +
                                  std::to_string(decode.model) + " on the stored factors)");
+}
+
+Rgb BonnBtf::value(int x, int y, int view, int light) const {
+  const BonnBtfHeader& h = *header_;
+  const std::size_t t = std::size_t(y) * std::size_t(h.width) + std::size_t(x), channels = 3;
+  const std::size_t texels = texelCount(), l = std::size_t(light);
+  const std::size_t pair = cache_->view_pair_offset[std::size_t(view)] + l;
+  float s[3];
+  if (h.layout == BonnBtfLayout::Dfmf) {
+    const std::vector<FactorData>& factors = cache_->matrixFactors(path_, h);
+    for (std::size_t c = 0; c < channels; ++c) {
+      const BonnBtfFactor& f = h.factors[c];
+      const FactorData& d = factors[c];
+      const std::size_t k = f.components;
+      s[c] = f.columns == texels && f.rows == h.directions->pairCount() ? rowDot(&d.u[pair * k], &d.sv[t * k], k)
+                                                                          : rowDot(&d.sv[pair * k], &d.u[t * k], k);
+    }
+  } else if (h.layout == BonnBtfLayout::Fmf) {
+    const BonnBtfFactor& f = h.factors[0];
+    const FactorData& d = cache_->matrixFactors(path_, h)[0];
+    const std::size_t k = f.components;
+    for (std::size_t c = 0; c < channels; ++c)
+      s[c] = f.columns == texels ? rowDot(&d.u[(pair * channels + c) * k], &d.sv[t * k], k)
+                                 : rowDot(&d.sv[pair * k], &d.u[(t * channels + c) * k], k);
+  } else {
+    const BonnBtfFactor& f = h.factors[std::size_t(view)];
+    const FactorData& d = cache_->slot(path_, h, view);
+    const std::size_t k = f.components;
+    for (std::size_t c = 0; c < channels; ++c)
+      s[c] = f.columns == texels ? rowDot(&d.u[(l * channels + c) * k], &d.sv[t * k], k) + d.mean[l * channels + c]
+                                 : rowDot(&d.sv[l * k], &d.u[(t * channels + c) * k], k) + d.mean[t * channels + c];
+  }
+  const float inv_cos = h.cosine_flag ? 1.0f / h.directions->lightDirections(view)[l].z : 1.0f;
+  const Rgb v = decoderOf(h)(s[0], s[1], s[2]);
+  const Rgb out(std::max(v.r * inv_cos, 0.0f), std::max(v.g * inv_cos, 0.0f), std::max(v.b * inv_cos, 0.0f));
+  if (!(out.r <= kMaxReflectance) || !(out.g <= kMaxReflectance) || !(out.b <= kMaxReflectance))
+    throw FileError(path_, "view " + std::to_string(view) + ", light " + std::to_string(light) + ", texel (" +
+                               std::to_string(x) + ", " + std::to_string(y) +
+                               ") decodes to a value that is not finite or beyond 1e10");
+  return out;
 }
 
 }  // namespace btf

@@ -66,7 +66,6 @@ std::string describePair(int view, int light) {
 
 std::string sizeText(int width, int height) { return std::to_string(width) + " x " + std::to_string(height); }
 
-
 // Rethrows the error of the lowest index, so a failing parallel loop reports the same error
 // whatever the thread count.
 // An image of the folder, its header checked against the BTF's size (that of `first`) before any
@@ -249,8 +248,17 @@ namespace {
 // The view a UTIA subfolder stands for ("tv030_pv060", any case), or nothing for other names.
 std::optional<int> parseViewFolderName(const std::string& name) {
   const std::string n = lower(name);
-  int tv = 0, pv = 0, used = 0;
-  if (std::sscanf(n.c_str(), "tv%d_pv%d%n", &tv, &pv, &used) != 2 || std::size_t(used) != n.size()) return std::nullopt;
+  const auto number = [&](std::size_t& at, int& out) {
+    const auto [end, ec] = std::from_chars(n.data() + at, n.data() + n.size(), out);
+    if (ec != std::errc() || end == n.data() + at) return false;
+    at = std::size_t(end - n.data());
+    return true;
+  };
+  std::size_t at = 2;
+  int tv = 0, pv = 0;
+  if (!n.starts_with("tv") || !number(at, tv) || n.compare(at, 3, "_pv") != 0) return std::nullopt;
+  at += 3;
+  if (!number(at, pv) || at != n.size()) return std::nullopt;
   return findBtfDirection(float(tv), float(pv));
 }
 
@@ -305,7 +313,13 @@ BtfDirectionSetPtr shiftedLightSet(const fs::path& list) {
                                 std::to_string(r[3]) + ", phi " + std::to_string(r[4]) + " (theta must lie in [0, 90))");
     lights[k][k] = BtfAngles{float(r[3]), float(r[4])};
   }
-  return std::make_shared<const BtfDirectionSet>("UTIA, shifted lights", views, lights, BtfDirectionSet::ubo2003());
+  try {
+    return std::make_shared<const BtfDirectionSet>("UTIA, shifted lights", views, lights, BtfDirectionSet::ubo2003());
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(list, e.what());
+  }
 }
 
 }  // namespace

@@ -104,9 +104,14 @@ bool isBonnBtfSignature(const unsigned char* head, std::size_t size);
 bool isBonnBtfFile(const std::filesystem::path& path);
 
 // A Bonn .btf file as a BtfSource: loadView decodes one view (every light, every texel) from the
-// factors. DFMF and FMF factors are read into memory (as float) on the first loadView; PVF reads
+// factors. DFMF and FMF factors are read into memory (as float) on the first decoding; PVF reads
 // one view slot per loadView. NaN or infinite factors are a FileError naming the section.
-class BonnBtf final : public BtfSource {
+// And as a BtfLookup: value() decodes one entry from the factors (k multiply-adds per channel),
+// so that a renderer reads the file without a copy of its values; PVF view slots are then kept
+// once read. value() agrees with loadView to float rounding (one is a matrix product, the other a
+// dot product), and throws FileError for an entry that decodes to a non-finite value or one
+// beyond 1e10.
+class BonnBtf final : public BtfSource, public BtfLookup {
  public:
   static BonnBtf open(const std::filesystem::path& path);
 
@@ -115,6 +120,11 @@ class BonnBtf final : public BtfSource {
   const BtfViewSet& views() const override { return views_; }
   std::string name() const override;
   void loadView(int view, std::vector<Rgb>& out) const override;
+
+  int lookupWidth() const override { return header_->width; }
+  int lookupHeight() const override { return header_->height; }
+  const BtfViewSet& lookupViews() const override { return views_; }
+  Rgb value(int x, int y, int view, int light) const override;
 
   const BonnBtfHeader& header() const { return *header_; }
   const std::filesystem::path& path() const { return path_; }
