@@ -306,11 +306,11 @@ BtfDirectionSetPtr shiftedLightSet(const fs::path& list) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto& r = rows[k];
     if (findBtfDirection(float(r[1]), float(r[2])) != int(k))
-      throw FileError(list, "direction " + std::to_string(k + 1) + " is (theta " + std::to_string(r[1]) + ", phi " +
-                                std::to_string(r[2]) + "), not the set's (" + describeBtfDirection(int(k)) + ")");
+      throw FileError(list, "direction " + std::to_string(k + 1) + " is (theta " + formatLimit(r[1]) + ", phi " +
+                                formatLimit(r[2]) + "), not the set's (" + describeBtfDirection(int(k)) + ")");
     if (!(r[3] >= 0 && r[3] < 90) || !std::isfinite(r[4]))
-      throw FileError(list, "direction " + std::to_string(k + 1) + " has a shifted light at theta " +
-                                std::to_string(r[3]) + ", phi " + std::to_string(r[4]) + " (theta must lie in [0, 90))");
+      throw FileError(list, "direction " + std::to_string(k + 1) + " has a shifted light at theta " + formatLimit(r[3]) +
+                                ", phi " + formatLimit(r[4]) + " (theta must lie in [0, 90))");
     lights[k][k] = BtfAngles{float(r[3]), float(r[4])};
   }
   try {

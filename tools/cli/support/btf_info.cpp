@@ -45,7 +45,7 @@ void runFolderInfo(const std::filesystem::path& folder, bool json) {
               btfImageLayoutName(btf.layout()).c_str(), btf.width(), btf.height(), btf.views().describe().c_str(),
               views * kBtfDirectionCount, ext.c_str());
   if (btf.directionList())
-    std::printf("directions  %s: where light and camera coincide, the light as moved aside (%s)\n",
+    std::printf("directions  %s: where light and camera coincide, the light moved aside (%s)\n",
                 btf.directions().describe().c_str(), btf.directionList()->filename().c_str());
   if (transfer)
     std::printf("integer images: value = %s(code / max code) x %g (apparent BRDF, 1/sr)\n",
