@@ -21,6 +21,7 @@ struct BtfOutputOptions {
   int scalar_bytes = 2;
   int color_model = 11;
   bool log_values = false;  // FMF: store log(x + 1e-5)
+  bool operator==(const BtfOutputOptions&) const = default;
 };
 
 // The options above on a verb (--layout, --format, --components, --relative-error, --scalar,

@@ -1,9 +1,8 @@
 #include "material_input.h"
 
-#include "btf/compress/vq_btf.h"
-
 #include <algorithm>
 
+#include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 
 namespace btf::cli {

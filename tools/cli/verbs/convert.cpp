@@ -88,6 +88,9 @@ void runConvert(const ConvertOptions& o) {
     if (o.tolerance_given) throw Error("--tolerance applies to an .octree output of a BRDF, not to the BTF " + o.in);
     return writeBtfOutput(*materialBtf(from), o.out, o.btf);
   }
+  if (!(o.btf == BtfOutputOptions{}))
+    throw Error("--layout, --format, --components, --relative-error, --scalar, --color-model and --log apply to a "
+                "BTF input; " + o.in + " is a BRDF");
   const TableOutput to = tableOutputOf(o.out);
   const bool same = from.format == &formatOf(o.out);
   if (same && to != TableOutput::Octree)  // an octree may be rebuilt at another tolerance
