@@ -142,7 +142,8 @@ class BonnBtf final : public BtfSource, public BtfLookup {
 
 // Writing: the DFMF or FMF layout by a truncated SVD of the BTF matrix, in bounded memory (a
 // randomised SVD, Halko, Martinsson and Tropp 2011: a few passes over the source, one view at a
-// time; memory ~ (texels + pairs) x rank, never the whole matrix).
+// time; memory ~ (texels + pairs) x rank, never the whole matrix). The signatures written are
+// !DFMF08FCR and !FMF12FCER, whose trailing R says rotations follow: a count of 0.
 struct BonnBtfWriteOptions {
   BonnBtfLayout layout = BonnBtfLayout::Dfmf;
   // Components kept per channel (DFMF) or in all (FMF): the rank, at most, and fewer when
@@ -155,7 +156,6 @@ struct BonnBtfWriteOptions {
   // (log(x + 1e-5)) or 0.
   int color_model = 11;
   int dynamic_range_reduction = 0;
-  bool rotations_flag = true;  // the signature with R (no rotations are stored: count 0)
   // Of the randomised SVD: each adds two passes over the source and brings the kept components
   // closer to the optimal ones (one suffices for the fast-decaying spectra of BTFs).
   int power_iterations = 1;
