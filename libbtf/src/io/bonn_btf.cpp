@@ -150,8 +150,8 @@ void readSampling(SectionReader& in, BonnBtfHeader& h) {
   }
 }
 
-void readSizeAndRotations(SectionReader& in, BonnBtfHeader& h) {
-  in.section("size block");
+// Width and height, each 1 .. 65536 (far beyond any measured BTF; bounds a corrupt file).
+void readTexelSize(SectionReader& in, BonnBtfHeader& h) {
   const std::uint32_t width = in.value<std::uint32_t>(), height = in.value<std::uint32_t>();
   constexpr std::uint32_t kMaxSide = 1u << 16;
   if (width == 0 || height == 0 || width > kMaxSide || height > kMaxSide)
@@ -159,6 +159,11 @@ void readSizeAndRotations(SectionReader& in, BonnBtfHeader& h) {
             std::to_string(kMaxSide) + ")");
   h.width = int(width);
   h.height = int(height);
+}
+
+void readSizeAndRotations(SectionReader& in, BonnBtfHeader& h) {
+  in.section("size block");
+  readTexelSize(in, h);
   if (h.rotations_flag) {
     in.section("rotations block");
     h.rotation_count = in.value<std::uint32_t>();
@@ -282,11 +287,7 @@ void readPvf(SectionReader& in, BonnBtfHeader& h) {
     h.legacy_pvf = true;
     h.channel_names = {"R", "G", "B"};
     h.max_components = in.value<std::uint32_t>();
-    const std::uint32_t width = in.value<std::uint32_t>(), height = in.value<std::uint32_t>();
-    if (width == 0 || height == 0 || width > (1u << 16) || height > (1u << 16))
-      in.fail("declares " + std::to_string(width) + " x " + std::to_string(height) + " texels (each side must be 1 .. 65536)");
-    h.width = int(width);
-    h.height = int(height);
+    readTexelSize(in, h);
     const std::uint32_t slots = in.value<std::uint32_t>();
     readSampling(in, h);
     readPvfSlots(in, h, slots);
@@ -454,6 +455,9 @@ void multiplyRows(const std::vector<float>& left, std::size_t left_begin, std::s
 // same whatever the thread count.
 constexpr std::size_t kTexelChunk = 2048;
 
+}  // namespace
+
+namespace bonn {
 // Stored values -> linear RGB (btflib's undecorrelate, restore_dynamic_range, cosine removal).
 struct ColorDecoder {
   int model = 0;
@@ -500,10 +504,27 @@ struct ColorDecoder {
     return xyzToLinearRec709(Rgb(0.95047f * finv(fx), finv(fy), 1.08883f * finv(fz)));
   }
 };
+}  // namespace bonn
+
+namespace {
+using bonn::ColorDecoder;
+
+}  // namespace
+
+namespace {
+ColorDecoder decoderOf(const BonnBtfHeader& h) {
+  ColorDecoder decode;
+  decode.model = h.layout == BonnBtfLayout::Dfmf ? h.color_model : 0;
+  decode.log_range = h.layout == BonnBtfLayout::Fmf && h.dynamic_range_reduction != 0;
+  decode.mean = h.color_mean;
+  decode.transform = h.color_transform;
+  return decode;
+}
 
 }  // namespace
 
 struct BonnBtf::Cache {
+  ColorDecoder decode;  // the header's colour model, built once
   std::once_flag once;
   std::vector<FactorData> factors;  // DFMF: per channel; FMF: one
   std::vector<std::size_t> view_pair_offset;
@@ -534,15 +555,6 @@ struct BonnBtf::Cache {
 
 namespace {
 
-ColorDecoder decoderOf(const BonnBtfHeader& h) {
-  ColorDecoder decode;
-  decode.model = h.layout == BonnBtfLayout::Dfmf ? h.color_model : 0;
-  decode.log_range = h.layout == BonnBtfLayout::Fmf && h.dynamic_range_reduction != 0;
-  decode.mean = h.color_mean;
-  decode.transform = h.color_transform;
-  return decode;
-}
-
 float rowDot(const float* a, const float* b, std::size_t k) {
   float sum = 0;
   for (std::size_t i = 0; i < k; ++i) sum += a[i] * b[i];
@@ -557,6 +569,7 @@ BonnBtf BonnBtf::open(const fs::path& path) {
   btf.header_ = std::make_shared<const BonnBtfHeader>(readBonnBtfHeader(path));
   btf.views_ = BtfViewSet::all(btf.header_->directions);
   btf.cache_ = std::make_shared<Cache>();
+  btf.cache_->decode = decoderOf(*btf.header_);
   if (btf.header_->layout == BonnBtfLayout::Pvf) {
     btf.cache_->slot_once = std::make_unique<std::once_flag[]>(btf.header_->factors.size());
     btf.cache_->slots.resize(btf.header_->factors.size());
@@ -588,7 +601,7 @@ void BonnBtf::loadView(int view, std::vector<Rgb>& out) const {
     factors = &cache_->matrixFactors(path_, h);
   }
 
-  const ColorDecoder decode = decoderOf(h);
+  const ColorDecoder& decode = cache_->decode;
   const std::span<const glm::vec3> light_dirs = set.lightDirections(view);
 
   out.resize(lights * texels);
@@ -684,7 +697,7 @@ Rgb BonnBtf::value(int x, int y, int view, int light) const {
                                  : rowDot(&d.sv[l * k], &d.u[(t * channels + c) * k], k) + d.mean[t * channels + c];
   }
   const float inv_cos = h.cosine_flag ? 1.0f / h.directions->lightDirections(view)[l].z : 1.0f;
-  const Rgb v = decoderOf(h)(s[0], s[1], s[2]);
+  const Rgb v = cache_->decode(s[0], s[1], s[2]);
   const Rgb out(std::max(v.r * inv_cos, 0.0f), std::max(v.g * inv_cos, 0.0f), std::max(v.b * inv_cos, 0.0f));
   if (!(out.r <= kMaxReflectance) || !(out.g <= kMaxReflectance) || !(out.b <= kMaxReflectance))
     throw FileError(path_, "view " + std::to_string(view) + ", light " + std::to_string(light) + ", texel (" +
