@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "btf/core/btf_directions.h"
+#include "btf/core/btf_direction_set.h"
 #include "btf/io/btf_data.h"
 #include "btf/material/ggx.h"
 
@@ -26,19 +26,19 @@ inline float patternAlpha(int y, int height) { return 0.15f + 0.35f * float(y) /
 
 // colour_per_texel: value = colour(x, y) x the luminance shape of a grey GGX (constant chromaticity
 // per texel); otherwise a GGX with the coloured diffuse base and a white specular lobe (the
-// chromaticity varies with direction).
-inline BtfData makeGgxBtf(int width, int height, bool colour_per_texel) {
-  BtfData data(width, height, "ggx-pattern");
-  const auto& dirs = btfDirections();
+// chromaticity varies with direction). On the 81-direction set unless `set` says otherwise.
+inline BtfData makeGgxBtf(int width, int height, bool colour_per_texel,
+                          const BtfDirectionSetPtr& set = BtfDirectionSet::ubo2003()) {
+  BtfData data(width, height, "ggx-pattern", BtfViewSet::all(set));
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const Rgb colour = patternColour(x, y, width, height);
       const float alpha = patternAlpha(y, height);
       const Ggx grey(Rgb(0.5f), Rgb(0.04f), alpha, alpha * (x % 3 == 0 ? 1.0f : 0.7f));
       const Ggx coloured(colour, Rgb(0.04f), alpha, alpha);
-      for (int v = 0; v < kBtfDirectionCount; ++v)
-        for (int l = 0; l < kBtfDirectionCount; ++l) {
-          const glm::vec3 wi = dirs[std::size_t(l)].w, wo = dirs[std::size_t(v)].w;
+      for (int v = 0; v < set->viewCount(); ++v)
+        for (int l = 0; l < set->lightCount(v); ++l) {
+          const glm::vec3 wi = set->lightDirections(v)[std::size_t(l)], wo = set->view(v);
           data.at(x, y, v, l) = colour_per_texel ? colour * grey.eval(wi, wo).g : coloured.eval(wi, wo);
         }
     }

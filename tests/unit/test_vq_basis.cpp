@@ -57,7 +57,7 @@ std::vector<btf::Rgb> firstView(const btf::BtfSource& source) {
 
 TEST(VqBasis, LearnedBasisIsOrthonormalAndOrderedByEnergy) {
   const auto view = firstView(print48());
-  const auto bases = btf::learnVqRingBases(view, print48().texelCount(), 64.0f / 65535.0f);
+  const auto bases = btf::learnVqRingBases(view, print48().texelCount(), btf::BtfRingLayout::ubo2003(), 64.0f / 65535.0f);
   ASSERT_EQ(bases.size(), std::size_t(btf::kBtfRingCount));
   EXPECT_TRUE(bases[0].empty());
   for (int r = 1; r < btf::kBtfRingCount; ++r) {
@@ -96,7 +96,7 @@ TEST(VqBasis, LearnedBasisIsOrthonormalAndOrderedByEnergy) {
 TEST(VqBasis, FewLitVectorsKeepTheValueByValueForm) {
   // 20 x 20 = 400 texels: enough for ring 1 (4 * 36 = 144), not for ring 2 (4 * 144 = 576).
   const btf::BtfSubset small(print48(), {0, 0, 20, 20}, print48().views());
-  const auto bases = btf::learnVqRingBases(firstView(small), small.texelCount(), 64.0f / 65535.0f);
+  const auto bases = btf::learnVqRingBases(firstView(small), small.texelCount(), btf::BtfRingLayout::ubo2003(), 64.0f / 65535.0f);
   EXPECT_FALSE(bases[1].empty());
   for (int r = 2; r < btf::kBtfRingCount; ++r) EXPECT_TRUE(bases[std::size_t(r)].empty()) << "ring " << r;
 }
@@ -106,7 +106,7 @@ TEST(VqBasis, FewLitVectorsKeepTheValueByValueForm) {
 // VqPrecision allows (sqrt(n) step / 2) plus the 16-bit codes' own (sqrt(n) / 2 / 65535), and the
 // budget is used: larger budgets keep fewer coefficients.
 TEST(VqBasis, StoredEntriesStayWithinTheirBudget) {
-  const auto bases = btf::learnVqRingBases(firstView(print48()), print48().texelCount(), 128.0f / 65535.0f);
+  const auto bases = btf::learnVqRingBases(firstView(print48()), print48().texelCount(), btf::BtfRingLayout::ubo2003(), 128.0f / 65535.0f);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
   for (int r = 1; r < btf::kBtfRingCount; ++r) {

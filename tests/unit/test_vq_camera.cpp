@@ -122,7 +122,7 @@ TEST(VqCamera, NoCodebookKeepsAnEntryNothingReferences) {
 TEST(VqCamera, StoredCodesKeepThePrecisionTheToleranceAllows) {
   const btf::VqBtf vq = btf::compressVq(cameraPrint(), printOptions(3));
   const btf::VqBtf::Impl& m = vq.impl();
-  const btf::VqPrecision p = btf::vqPrecisionFor(0.2f);
+  const btf::VqPrecision p = btf::vqPrecisionFor(0.2f, btf::BtfRingLayout::ubo2003().maxSize());
   ASSERT_GT(p.scale_shift, 0);
   ASSERT_GT(p.value_shift, 0);
   auto expectMultiples = [](const std::vector<std::uint16_t>& codes, std::size_t skip, int shift, const char* what) {

@@ -24,7 +24,7 @@ TEST(VqPrecision, ScaleRoundingStaysWithinASixteenthOfTheTolerance) {
   btf::Rng rng(5);
   for (float epsilon : kEpsilons) {
     SCOPED_TRACE("epsilon " + std::to_string(epsilon));
-    const int shift = btf::vqPrecisionFor(epsilon).scale_shift;
+    const int shift = btf::vqPrecisionFor(epsilon, btf::BtfRingLayout::ubo2003().maxSize()).scale_shift;
     double worst = 0;
     for (int i = 0; i < 20000; ++i) {
       const float s = float(std::exp2(rng.uniformDouble() * 40.0 - 20.0));
@@ -44,7 +44,7 @@ TEST(VqPrecision, LevelOneEntryRoundingStaysWithinASixteenthOfTheTolerance) {
   btf::Rng rng(6);
   for (float epsilon : kEpsilons) {
     SCOPED_TRACE("epsilon " + std::to_string(epsilon));
-    const int shift = btf::vqPrecisionFor(epsilon).value_shift;
+    const int shift = btf::vqPrecisionFor(epsilon, btf::BtfRingLayout::ubo2003().maxSize()).value_shift;
     double worst = 0;
     for (int i = 0; i < 5000; ++i) {
       // A unit vector of 24 non-negative values, the largest ring's.
@@ -71,7 +71,7 @@ TEST(VqPrecision, LevelOneEntryRoundingStaysWithinASixteenthOfTheTolerance) {
 }
 
 TEST(VqPrecision, ZeroToleranceKeepsEvery16BitCode) {
-  const btf::VqPrecision p = btf::vqPrecisionFor(0.0f);
+  const btf::VqPrecision p = btf::vqPrecisionFor(0.0f, btf::BtfRingLayout::ubo2003().maxSize());
   EXPECT_EQ(p.scale_shift, 0);
   EXPECT_EQ(p.value_shift, 0);
   // Shift 0 is the encoding files were always written with.
@@ -81,11 +81,11 @@ TEST(VqPrecision, ZeroToleranceKeepsEvery16BitCode) {
   // Coarser with the tolerance, never finer.
   btf::VqPrecision last = p;
   for (float epsilon : kEpsilons) {
-    const btf::VqPrecision q = btf::vqPrecisionFor(epsilon);
+    const btf::VqPrecision q = btf::vqPrecisionFor(epsilon, btf::BtfRingLayout::ubo2003().maxSize());
     EXPECT_GE(q.scale_shift, last.scale_shift);
     EXPECT_GE(q.value_shift, last.value_shift);
     last = q;
   }
-  EXPECT_GE(btf::vqPrecisionFor(0.2f).scale_shift, 4);
-  EXPECT_GE(btf::vqPrecisionFor(0.2f).value_shift, 7);
+  EXPECT_GE(btf::vqPrecisionFor(0.2f, btf::BtfRingLayout::ubo2003().maxSize()).scale_shift, 4);
+  EXPECT_GE(btf::vqPrecisionFor(0.2f, btf::BtfRingLayout::ubo2003().maxSize()).value_shift, 7);
 }

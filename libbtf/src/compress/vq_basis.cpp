@@ -6,22 +6,24 @@
 #include <array>
 #include <cmath>
 
-#include "btf/core/btf_directions.h"
+#include "btf/core/btf_ring_layout.h"
 #include "vq_impl.h"
 
 namespace btf {
 
-std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::size_t texels, float step) {
-  std::vector<VqRingBasis> bases(kBtfRingCount);
-  for (int r = 1; r < kBtfRingCount; ++r) {
-    const int n = btfRingSize(r), start = btfRingStart(r);
+std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::size_t texels, const BtfRingLayout& layout,
+                                          float step) {
+  std::vector<VqRingBasis> bases(std::size_t(layout.ringCount()));
+  for (int r = 0; r < layout.ringCount(); ++r) {
+    const int n = layout.size(r);
+    if (n == 1) continue;
     Eigen::MatrixXd moments = Eigen::MatrixXd::Zero(n, n);
     std::vector<double> u(static_cast<std::size_t>(n));
     std::size_t lit = 0;
     for (std::size_t t = 0; t < texels; ++t) {
       double len2 = 0;
       for (int a = 0; a < n; ++a) {
-        u[std::size_t(a)] = view[std::size_t(start + a) * texels + t].luminance();
+        u[std::size_t(a)] = view[std::size_t(layout.light(r, a)) * texels + t].luminance();
         len2 += u[std::size_t(a)] * u[std::size_t(a)];
       }
       if (!(len2 > 0)) continue;
@@ -50,7 +52,7 @@ std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::siz
 
 void vqBasisCoefficients(const VqRingBasis& basis, std::span<const float> u, double budget, std::int32_t* coefficients) {
   const int n = basis.n;
-  std::array<double, std::ranges::max(kBtfRingSizes)> c{};  // n <= the largest ring
+  std::array<double, BtfRingLayout::kBandSize> c{};  // n <= the largest ring
   for (int a = 0; a < n; ++a)
     for (int j = 0; j < n; ++j)
       c[std::size_t(j)] += double(basis.v[std::size_t(a) * std::size_t(n) + std::size_t(j)]) * double(u[std::size_t(a)]);

@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "btf/core/btf_ring_layout.h"
 #include "btf/core/rgb.h"
 
 namespace btf {
@@ -44,10 +45,11 @@ struct VqRingBasis {
 // estimated.
 inline constexpr int kVqBasisVectorsPerValue = 4;
 
-// Learns the bases of rings 1.. from one view (texel-major by light: buffer[light * texels + t], as
-// BtfSource::loadView gives it); ring 0 (one light) never has one. Deterministic: sums in texel
-// order, in double. `step` is the coefficient unit (VqPrecision's value step).
-std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::size_t texels, float step);
+// Learns the bases of the layout's rings from one view (texel-major by light: buffer[light * texels
+// + t], as BtfSource::loadView gives it); a ring of one light never has one. Deterministic: sums in
+// texel order, in double. `step` is the coefficient unit (VqPrecision's value step).
+std::vector<VqRingBasis> learnVqRingBases(const std::vector<Rgb>& view, std::size_t texels, const BtfRingLayout& layout,
+                                          float step);
 
 // Coefficients of a unit function u (n values) in the basis: the leading ones whose dropped tail has
 // energy <= budget^2, rounded to multiples of the step (integers, in units of the step); the rest 0.

@@ -1,9 +1,10 @@
 // compressVq: the multi-level VQ compressor (compress/vq_btf.h states the tolerances and bounds).
 //
 // Order of work. Views are compressed one at a time (the source streams by view; the next view
-// loads meanwhile). Inside a view, the chromaticity of each ring and level 1 of each ring run as
-// eleven independent jobs (each has its own codebook), then level 2 over all texels' light slices;
-// level 3 runs at the end over the texels (their 81 level-2 codes are kept, ~6 bytes each).
+// loads meanwhile). Inside a view, the chromaticity of each ring and level 1 of each ring of more
+// than one light run as independent jobs (each has its own codebook; eleven on the 81-direction
+// set's six rings), then level 2 over all texels' light slices; level 3 runs at the end over the
+// texels (their level-2 codes per view are kept, ~6 bytes each plus 4 per ring).
 //
 // Determinism with parallel search. Each batch (one ring of one view, the slices of one view, the
 // texels at level 3) is cut into chunks of kChunk vectors in texel order. A chunk is first searched
@@ -29,10 +30,10 @@
 //   (4 chroma_epsilon sqrt(n) / |c|), verified exactly by the luminance-weighted error of vq_btf.h;
 // - level 2: the key is the level-1 reconstruction of the slice, normalized; the first of the 8
 //   nearest entries within the radius whose chromaticities pass (vq_btf.h) is reused;
-// - level 3: the key is the texel's 81 view scales (normalized). Since |a e - b e'| >= |a - b| for
+// - level 3: the key is the texel's view scales (normalized). Since |a e - b e'| >= |a - b| for
 //   unit e, e', an entry whose full reconstruction is within epsilon has a key within about the
 //   same radius; candidates (8 nearest within 1.5x the radius) are verified on the full
-//   81 x 81 reconstruction through the level-2 entries' dot products, and on the texel's
+//   views x lights reconstruction through the level-2 entries' dot products, and on the texel's
 //   chromaticity as a whole (vq_btf.h). (The texel's mean chromaticity appended to the key, so
 //   that the 8 candidates are not texels of another ink, saved few level-3 entries on the printed
 //   BTF: left out, docs/design-notes.md#vq-level-3-search.)
@@ -157,31 +158,46 @@ double rmsOf(std::size_t n, F&& norm_of) {
 class Compressor {
  public:
   // `bases`: the level-1 ring bases (vqRingBasesFor), empty for value-by-value rings.
+  // `books.layout` is the materials' ring layout (all the same: the codebooks are per ring).
   Compressor(const VqOptions& options, VqBtf::Impl& books, std::vector<VqRingBasis> bases)
-      : options_(options), books_(books) {
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      l1_.emplace_back(btfRingSize(r));
+      : options_(options),
+        precision_(vqPrecisionFor(options.epsilon, books.layout.maxSize())),
+        books_(books),
+        layout_(books.layout),
+        R_(std::size_t(layout_.ringCount())),
+        L_(std::size_t(layout_.lightCount())) {
+    level1_entry_.resize(R_);
+    ring_rms_.resize(R_);
+    for (int r = 0; r < int(R_); ++r) {
+      jobs_.push_back({r, true});
+      if (layout_.size(r) > 1) jobs_.push_back({r, false});
+    }
+    std::stable_sort(jobs_.begin(), jobs_.end(),
+                     [&](const RingJob& a, const RingJob& b) { return layout_.size(a.ring) > layout_.size(b.ring); });
+    for (int r = 0; r < int(R_); ++r) {
+      l1_.emplace_back(layout_.size(r));
       if (std::size_t(r) < bases.size()) books_.l1_basis[std::size_t(r)] = std::move(bases[std::size_t(r)]);
     }
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
     // uniform light slice (level 2) and, per material, the uniform texel (level 3).
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      const std::vector<float> constant(std::size_t(btfRingSize(r)), 1.0f / std::sqrt(float(btfRingSize(r))));
+    for (int r = 0; r < int(R_); ++r) {
+      const std::vector<float> constant(std::size_t(layout_.size(r)), 1.0f / std::sqrt(float(layout_.size(r))));
       l1_[std::size_t(r)].add(storeLevel1Entry(r, constant, 0.0, 0));
     }
     const float step = vqChromaStep(options.chroma_epsilon);
     const std::int32_t grey = std::int32_t(std::lround(1.0 / double(step)));
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      const std::size_t n2 = 2 * std::size_t(btfRingSize(r));
+    for (int r = 0; r < int(R_); ++r) {
+      const std::size_t n2 = 2 * std::size_t(layout_.size(r));
       chroma_books_.emplace_back(int(n2));
       books_.chroma[std::size_t(r)].assign(n2, grey);
       chroma_books_.back().add(std::vector<float>(n2, float(grey) * step));
     }
     if (options.levels >= 2) {
-      std::vector<std::uint32_t> e1(kBtfRingCount, 0), ch(kBtfRingCount, 0);
-      std::vector<std::uint16_t> sc(kBtfRingCount);
-      for (int r = 0; r < kBtfRingCount; ++r) sc[std::size_t(r)] = encodeVqScale(std::sqrt(float(btfRingSize(r))) / 9.0f);
-      l2_.emplace(kBtfDirectionCount);
+      std::vector<std::uint32_t> e1(R_, 0), ch(R_, 0);
+      std::vector<std::uint16_t> sc(R_);
+      for (int r = 0; r < int(R_); ++r)
+        sc[std::size_t(r)] = encodeVqScale(std::sqrt(float(layout_.size(r)) / float(L_)));
+      l2_.emplace(int(L_));
       addLevel2Entry(e1.data(), sc.data(), ch.data());
     }
   }
@@ -202,7 +218,7 @@ class Compressor {
     }
     const std::size_t T = texels_, V = views_;
     if (options_.levels == 1) {
-      out_->top_index.resize(T * V * kBtfRingCount);
+      out_->top_index.resize(T * V * R_);
       out_->top_scale.resize(out_->top_index.size());
       out_->top_chroma.resize(out_->top_index.size());
     } else if (options_.levels == 2) {
@@ -211,7 +227,7 @@ class Compressor {
     } else {
       view_index_.resize(T * V);
       view_scale_.resize(T * V);
-      view_chroma_.resize(T * V * kBtfRingCount);
+      view_chroma_.resize(T * V * R_);
     }
     Progress progress("vq compress " + source_->name(), int(V) + (options_.levels == 3 ? 1 : 0));
     // The next view loads (a synthetic source renders it) while this one is compressed; one
@@ -223,7 +239,7 @@ class Compressor {
     tbb::task_group loader;
     for (int slot = 0; slot < int(V); ++slot) {
       const int v = views.view(slot);
-      if (buffer.size() != T * kBtfDirectionCount)
+      if (buffer.size() != T * L_)
         throw Error(source_->name() + ": view " + std::to_string(v) + " has the wrong number of values");
       checkValues(buffer, v);
       if (slot + 1 < int(V)) loader.run([this, &views, slot, &next] { source_->loadView(views.view(slot + 1), next); });
@@ -260,10 +276,10 @@ class Compressor {
   // chroma function (current view): sum over azimuths of u_a^2 |c_entry,a - c_a|^2 with u the
   // ring's unit luminance function (vq_btf.h).
   bool chromaPasses(std::uint32_t entry, std::size_t t, int r) const {
-    const int n = btfRingSize(r), start = btfRingStart(r);
+    const int n = layout_.size(r), start = layout_.start(r);
     const float* e = chroma_books_[std::size_t(r)].entry(entry);
-    const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
-    const float* u = &units_[t * kBtfDirectionCount + std::size_t(start)];
+    const float* c = &cfun_[(t * L_ + std::size_t(start)) * 2];
+    const float* u = &units_[t * L_ + std::size_t(start)];
     double err = 0;
     for (int a = 0; a < 2 * n; ++a) {
       const double d = double(e[a]) - c[a], w = u[a / 2];
@@ -276,7 +292,7 @@ class Compressor {
   // dark rings by the same energy floor as the luminance (vq_btf.h): a ring far below the view's
   // RMS ring norm adds little to the RGB error whatever its chromaticity.
   double chromaTolerance(std::size_t t, int r) const {
-    const double len = norms_[t * kBtfRingCount + std::size_t(r)];
+    const double len = norms_[t * R_ + std::size_t(r)];
     const double floor = double(options_.energy_floor) * ring_rms_[std::size_t(r)];
     return double(options_.chroma_epsilon) * (len >= floor || !(len > 0) ? 1.0 : floor / len);
   }
@@ -284,20 +300,20 @@ class Compressor {
   // the same snapshot-then-sequential order as level 1.
   void quantizeChroma(int r) {
     const std::size_t T = texels_;
-    const int n = btfRingSize(r), start = btfRingStart(r);
+    const int n = layout_.size(r), start = layout_.start(r);
     const std::size_t n2 = 2 * std::size_t(n);
     Codebook& book = chroma_books_[std::size_t(r)];
     const float step = vqChromaStep(options_.chroma_epsilon);
     std::vector<float> keys(T * n2);
     std::vector<float> radius(T);
     parallelFor(T, [&](std::size_t t) {
-      const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+      const float* c = &cfun_[(t * L_ + std::size_t(start)) * 2];
       const float len = norm(c, int(n2));
       for (std::size_t i = 0; i < n2; ++i) keys[t * n2 + i] = len > 0 ? c[i] / len : 0.0f;
       radius[t] = Codebook::chordRadius(len > 0 ? float(std::min(1.0, 4.0 * chromaTolerance(t, r) * std::sqrt(double(n)) / len)) : 1.0f);
     });
     auto key = [&](std::size_t t) { return std::span<const float>(&keys[t * n2], n2); };
-    auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
+    auto lit = [&](std::size_t t) { return norms_[t * R_ + std::size_t(r)] > 0; };
     std::vector<std::int64_t> match = initialMatches(T, lit);
     std::vector<float> entry(n2);
     quantizeBatch(
@@ -307,7 +323,7 @@ class Compressor {
                               [&](std::uint32_t e) { return chromaPasses(e, t, r); });
         },
         [&](std::size_t t) -> std::int64_t {
-          const float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+          const float* c = &cfun_[(t * L_ + std::size_t(start)) * 2];
           for (std::size_t i = 0; i < n2; ++i) {
             const std::int32_t q = std::int32_t(std::lround(double(c[i]) / step));
             books_.chroma[std::size_t(r)].push_back(q);
@@ -315,7 +331,7 @@ class Compressor {
           }
           return book.add(entry);
         });
-    for (std::size_t t = 0; t < T; ++t) chroma_[t * kBtfRingCount + std::size_t(r)] = std::uint32_t(match[t]);
+    for (std::size_t t = 0; t < T; ++t) chroma_[t * R_ + std::size_t(r)] = std::uint32_t(match[t]);
   }
 
   // Relative tolerance for a vector of norm `len` in a batch of RMS norm `rms` (vq_btf.h).
@@ -329,65 +345,67 @@ class Compressor {
   void level1(const std::vector<Rgb>& buffer, int slot) {
     const std::size_t T = texels_;
     // Luminance functions (unit directions and norms) and chroma functions, in parallel.
-    units_.resize(T * kBtfDirectionCount);
-    norms_.resize(T * kBtfRingCount);
-    cfun_.resize(T * kBtfDirectionCount * 2);
+    units_.resize(T * L_);
+    norms_.resize(T * R_);
+    cfun_.resize(T * L_ * 2);
     parallelFor(T, [&](std::size_t t) {
-      for (int r = 0; r < kBtfRingCount; ++r) {
-        const int n = btfRingSize(r), start = btfRingStart(r);
-        float* f = &units_[t * kBtfDirectionCount + std::size_t(start)];
+      for (int r = 0; r < int(R_); ++r) {
+        const int n = layout_.size(r), start = layout_.start(r);
+        float* f = &units_[t * L_ + std::size_t(start)];
         double sr = 0, sb = 0, sy = 0;
         for (int a = 0; a < n; ++a) {
-          const Rgb& c = buffer[std::size_t(start + a) * T + t];
+          const Rgb& c = buffer[std::size_t(layout_.light(r, a)) * T + t];
           f[a] = c.luminance();
           sr += c.r;
           sb += c.b;
           sy += f[a];
         }
         const float len = norm(f, n);
-        norms_[t * kBtfRingCount + std::size_t(r)] = len;
+        norms_[t * R_ + std::size_t(r)] = len;
         for (int a = 0; a < n; ++a) f[a] = len > 0 ? f[a] / len : 0.0f;
         // Chroma per azimuth; where the luminance is zero (weight zero) the ring's mean.
         const bool lit = sy > 0;
         const float mr = lit ? float(sr / sy) : 1.0f, mb = lit ? float(sb / sy) : 1.0f;
-        float* c = &cfun_[(t * kBtfDirectionCount + std::size_t(start)) * 2];
+        float* c = &cfun_[(t * L_ + std::size_t(start)) * 2];
         for (int a = 0; a < n; ++a) {
-          const Rgb& rgb = buffer[std::size_t(start + a) * T + t];
+          const Rgb& rgb = buffer[std::size_t(layout_.light(r, a)) * T + t];
           const float y = rgb.luminance();
           c[2 * a] = y > 0 ? rgb.r / y : mr;
           c[2 * a + 1] = y > 0 ? rgb.b / y : mb;
         }
       }
     });
-    for (int r = 0; r < kBtfRingCount; ++r)
-      ring_rms_[std::size_t(r)] = rmsOf(T, [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)]; });
-    chroma_.resize(T * kBtfRingCount);
-    entries_.assign(T * kBtfRingCount, 0);
-    scales_.assign(T * kBtfRingCount, 0);
-    for (std::size_t t = 0; t < T; ++t)
-      scales_[t * kBtfRingCount] = encodeVqScale(norms_[t * kBtfRingCount], precision_.scale_shift);
-    // The chroma codebooks of the six rings and the level-1 codebooks of rings 1..5 are independent
-    // (each job reads the view and writes only its own codebook and ring slots): they run as
-    // parallel jobs, each deterministic on its own, so their sequential parts overlap. Largest first.
-    constexpr int kJobs = 2 * kBtfRingCount - 1;
+    for (int r = 0; r < int(R_); ++r)
+      ring_rms_[std::size_t(r)] = rmsOf(T, [&](std::size_t t) { return norms_[t * R_ + std::size_t(r)]; });
+    chroma_.resize(T * R_);
+    entries_.assign(T * R_, 0);
+    scales_.assign(T * R_, 0);
+    // A ring of one light has one unit function, the seed {1}: its code is its norm.
+    for (int r = 0; r < int(R_); ++r)
+      if (layout_.size(r) == 1)
+        for (std::size_t t = 0; t < T; ++t)
+          scales_[t * R_ + std::size_t(r)] = encodeVqScale(norms_[t * R_ + std::size_t(r)], precision_.scale_shift);
+    // The chroma codebooks of the rings and the level-1 codebooks of the rings of more than one
+    // light are independent (each job reads the view and writes only its own codebook and ring
+    // slots): they run as parallel jobs, each deterministic on its own, so their sequential parts
+    // overlap. Largest rings first.
     tbb::parallel_for(
-        tbb::blocked_range<int>(0, kJobs, 1),
-        [&](const tbb::blocked_range<int>& jobs) {
-          for (int j = jobs.begin(); j != jobs.end(); ++j) {
-            const int ring = kBtfRingCount - 1 - j / 2;
-            if (j % 2 == 0)
-              quantizeChroma(ring);
+        tbb::blocked_range<std::size_t>(0, jobs_.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t j = range.begin(); j != range.end(); ++j) {
+            if (jobs_[j].chroma)
+              quantizeChroma(jobs_[j].ring);
             else
-              quantizeLevel1(ring);
+              quantizeLevel1(jobs_[j].ring);
           }
         },
         tbb::simple_partitioner());
     if (options_.levels == 1) {
-      const std::size_t base = std::size_t(slot) * kBtfRingCount;
+      const std::size_t base = std::size_t(slot) * R_;
       parallelFor(T, [&](std::size_t t) {
-        for (int r = 0; r < kBtfRingCount; ++r) {
-          const std::size_t k = t * kBtfRingCount + std::size_t(r);
-          const std::size_t o = t * views_ * kBtfRingCount + base + std::size_t(r);
+        for (int r = 0; r < int(R_); ++r) {
+          const std::size_t k = t * R_ + std::size_t(r);
+          const std::size_t o = t * views_ * R_ + base + std::size_t(r);
           out_->top_index[o] = entries_[k];
           out_->top_scale[o] = scales_[k];
           out_->top_chroma[o] = chroma_[k];
@@ -425,12 +443,12 @@ class Compressor {
   // Level-1 codes of ring r >= 1 for all texels of the view.
   void quantizeLevel1(int r) {
     const std::size_t T = texels_;
-    const int n = btfRingSize(r), start = btfRingStart(r);
+    const int n = layout_.size(r), start = layout_.start(r);
     Codebook& book = l1_[std::size_t(r)];
-    auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * kBtfDirectionCount + std::size_t(start)], std::size_t(n)); };
-    auto lit = [&](std::size_t t) { return norms_[t * kBtfRingCount + std::size_t(r)] > 0; };
+    auto unit = [&](std::size_t t) { return std::span<const float>(&units_[t * L_ + std::size_t(start)], std::size_t(n)); };
+    auto lit = [&](std::size_t t) { return norms_[t * R_ + std::size_t(r)] > 0; };
     const double rms = ring_rms_[std::size_t(r)];
-    auto radius = [&](std::size_t t) { return radiusFor(norms_[t * kBtfRingCount + std::size_t(r)], rms); };
+    auto radius = [&](std::size_t t) { return radiusFor(norms_[t * R_ + std::size_t(r)], rms); };
     std::vector<std::int64_t> match = initialMatches(T, lit);
     quantizeBatch(
         book, match,
@@ -440,12 +458,12 @@ class Compressor {
         [&](std::size_t t) -> std::int64_t {
           // A basis-coded entry (level1_cut) may drop coefficients worth its tolerance less the
           // quantization share (vq_basis.h), so that with the rounding it stays within the tolerance.
-          const double budget = std::max(0.0, double(tolerance(norms_[t * kBtfRingCount + std::size_t(r)], rms)) -
+          const double budget = std::max(0.0, double(tolerance(norms_[t * R_ + std::size_t(r)], rms)) -
                                                   kVqQuantizationShare * double(options_.epsilon));
           return book.add(storeLevel1Entry(r, unit(t), budget, precision_.value_shift));
         });
     parallelFor(T, [&](std::size_t t) {
-      const std::size_t k = t * kBtfRingCount + std::size_t(r);
+      const std::size_t k = t * R_ + std::size_t(r);
       entries_[k] = std::uint32_t(match[t]);
       if (!lit(t)) return;
       const float* e = book.entry(std::size_t(match[t]));
@@ -456,29 +474,29 @@ class Compressor {
   }
 
   // ---- level 2 -------------------------------------------------------------------------------
-  // Reconstruction of a light slice from level-1 codes (81 values).
+  // Reconstruction of a light slice from level-1 codes (one value per light).
   void reconstructSlice(const std::uint32_t* e1, const std::uint16_t* sc, float* out, const float* rel = nullptr) const {
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      const int n = btfRingSize(r), start = btfRingStart(r);
+    for (int r = 0; r < int(R_); ++r) {
+      const int n = layout_.size(r), start = layout_.start(r);
       const float s = rel ? rel[r] : decodeVqScale(sc[r]);
       const float* e = l1_[std::size_t(r)].entry(e1[r]);
       for (int a = 0; a < n; ++a) out[start + a] = s * e[a];
     }
   }
   std::uint32_t addLevel2Entry(const std::uint32_t* e1, const std::uint16_t* sc, const std::uint32_t* ch) {
-    float recon[kBtfDirectionCount];
-    reconstructSlice(e1, sc, recon);
-    books_.l2_index.insert(books_.l2_index.end(), e1, e1 + kBtfRingCount);
-    books_.l2_scale.insert(books_.l2_scale.end(), sc, sc + kBtfRingCount);
-    books_.l2_chroma.insert(books_.l2_chroma.end(), ch, ch + kBtfRingCount);
-    l2_norm2_.push_back(float(dot(recon, recon, kBtfDirectionCount)));
+    std::vector<float> recon(L_);
+    reconstructSlice(e1, sc, recon.data());
+    books_.l2_index.insert(books_.l2_index.end(), e1, e1 + R_);
+    books_.l2_scale.insert(books_.l2_scale.end(), sc, sc + R_);
+    books_.l2_chroma.insert(books_.l2_chroma.end(), ch, ch + R_);
+    l2_norm2_.push_back(float(dot(recon.data(), recon.data(), int(L_))));
     return l2_->add(recon);
   }
   bool level2ChromaPasses(std::uint32_t entry, std::size_t t) const {
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      const std::size_t k = t * kBtfRingCount + std::size_t(r);
+    for (int r = 0; r < int(R_); ++r) {
+      const std::size_t k = t * R_ + std::size_t(r);
       if (!(norms_[k] > 0)) continue;
-      const std::uint32_t c = books_.l2_chroma[std::size_t(entry) * kBtfRingCount + std::size_t(r)];
+      const std::uint32_t c = books_.l2_chroma[std::size_t(entry) * R_ + std::size_t(r)];
       if (c != chroma_[k] && !chromaPasses(c, t, r)) return false;
     }
     return true;
@@ -486,16 +504,16 @@ class Compressor {
 
   void level2(int slot) {
     const std::size_t T = texels_;
-    slices_.resize(T * kBtfDirectionCount);
+    slices_.resize(T * L_);
     slice_norm_.resize(T);
     parallelFor(T, [&](std::size_t t) {
-      float* y = &slices_[t * kBtfDirectionCount];
-      reconstructSlice(&entries_[t * kBtfRingCount], &scales_[t * kBtfRingCount], y);
-      const float len = norm(y, kBtfDirectionCount);
+      float* y = &slices_[t * L_];
+      reconstructSlice(&entries_[t * R_], &scales_[t * R_], y);
+      const float len = norm(y, int(L_));
       slice_norm_[t] = len;
-      for (int l = 0; l < kBtfDirectionCount; ++l) y[l] = len > 0 ? y[l] / len : 0.0f;
+      for (std::size_t l = 0; l < L_; ++l) y[l] = len > 0 ? y[l] / len : 0.0f;
     });
-    auto unit = [&](std::size_t t) { return std::span<const float>(&slices_[t * kBtfDirectionCount], kBtfDirectionCount); };
+    auto unit = [&](std::size_t t) { return std::span<const float>(&slices_[t * L_], L_); };
     const double rms = rmsOf(T, [&](std::size_t t) { return slice_norm_[t]; });
     auto radius = [&](std::size_t t) { return radiusFor(slice_norm_[t], rms); };
     std::vector<std::int64_t> match = initialMatches(T, [&](std::size_t t) { return slice_norm_[t] > 0; });
@@ -506,18 +524,18 @@ class Compressor {
                               [&](std::uint32_t e) { return level2ChromaPasses(e, t); });
         },
         [&](std::size_t t) -> std::int64_t {
-          std::uint16_t rel[kBtfRingCount];
-          for (int r = 0; r < kBtfRingCount; ++r)
-            rel[r] = encodeVqScale(decodeVqScale(scales_[t * kBtfRingCount + std::size_t(r)]) / slice_norm_[t],
+          std::vector<std::uint16_t> rel(R_);
+          for (int r = 0; r < int(R_); ++r)
+            rel[r] = encodeVqScale(decodeVqScale(scales_[t * R_ + std::size_t(r)]) / slice_norm_[t],
                                    precision_.scale_shift);
-          return addLevel2Entry(&entries_[t * kBtfRingCount], rel, &chroma_[t * kBtfRingCount]);
+          return addLevel2Entry(&entries_[t * R_], rel.data(), &chroma_[t * R_]);
         });
     parallelFor(T, [&](std::size_t t) {
       const std::uint32_t e = std::uint32_t(match[t]);
       std::uint16_t code = 0;
       if (slice_norm_[t] > 0) {
         const float* recon = l2_->entry(e);
-        const double ls = slice_norm_[t] * dot(unit(t).data(), recon, kBtfDirectionCount) / l2_norm2_[e];
+        const double ls = slice_norm_[t] * dot(unit(t).data(), recon, int(L_)) / l2_norm2_[e];
         code = encodeVqScale(float(ls), precision_.scale_shift);
       }
       const std::size_t k = t * views_ + std::size_t(slot);
@@ -527,9 +545,9 @@ class Compressor {
       } else {
         view_index_[k] = e;
         view_scale_[k] = code;
-        for (int r = 0; r < kBtfRingCount; ++r)
-          view_chroma_[k * kBtfRingCount + std::size_t(r)] =
-              norms_[t * kBtfRingCount + std::size_t(r)] > 0 ? chroma_[t * kBtfRingCount + std::size_t(r)] : kNoChroma;
+        for (int r = 0; r < int(R_); ++r)
+          view_chroma_[k * R_ + std::size_t(r)] =
+              norms_[t * R_ + std::size_t(r)] > 0 ? chroma_[t * R_ + std::size_t(r)] : kNoChroma;
       }
     });
   }
@@ -537,7 +555,7 @@ class Compressor {
   // ---- level 3 -------------------------------------------------------------------------------
   // `parent`: the entry this one repeats outside its exception views (vq_impl.h), or none.
   std::uint32_t addLevel3Entry(const std::uint32_t* e2, const std::uint16_t* sc, std::optional<std::uint32_t> parent = {}) {
-    float key[kBtfDirectionCount];
+    std::vector<float> key(views_);
     double y2 = 0;
     for (std::size_t v = 0; v < views_; ++v) {
       key[v] = decodeVqScale(sc[v]);
@@ -547,12 +565,12 @@ class Compressor {
     out_->l3_scale.insert(out_->l3_scale.end(), sc, sc + views_);
     out_->l3_parent.push_back(parent ? *parent + 1 : 0);
     l3_norm2_.push_back(float(y2));
-    return l3_->add(std::span<const float>(key, views_));
+    return l3_->add(key);
   }
   // x . y of texel t's level-2 reconstruction x against entry `entry`'s reconstruction y
   // (unscaled); nothing when their chromaticities differ by more than the tolerance. The chroma
   // test is over the whole texel, as the luminance one is (vq_btf.h): the luminance-weighted
-  // squared error sum_l Y_l^2 |c'_l - c_l|^2 over its 81 x 81 samples, with Y from x and c from
+  // squared error sum_l Y_l^2 |c'_l - c_l|^2 over its views x lights samples, with Y from x and c from
   // its own chroma entries (each verified against the data at level 1 or 2; the data is gone by
   // level 3), <= chroma_epsilon^2 max(|x|^2, (energy_floor R)^2), R the RMS texel norm. On noisy
   // data a test per ring and view could not pass: a single light's chroma noise (ring 0) alone
@@ -573,18 +591,18 @@ class Compressor {
   }
   // Dot product of level-2 entries a and b (unscaled).
   double level2Dot(std::uint32_t a, std::uint32_t b) const {
-    return a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), kBtfDirectionCount);
+    return a == b ? double(l2_norm2_[a]) : dot(l2_->entry(a), l2_->entry(b), int(L_));
   }
   // The chroma term of level3Dot for one view: slot k = t * views_ + v of texel t, whose slice has
   // level-2 entry a at scale s, against level-2 entry b.
   double level3ViewChromaError(std::size_t k, float s, std::uint32_t a, std::uint32_t b) const {
     double err = 0;
     if (s > 0)
-      for (int r = 0; r < kBtfRingCount; ++r) {
-        const std::uint32_t own = view_chroma_[k * kBtfRingCount + std::size_t(r)];
-        const std::uint32_t c = books_.l2_chroma[std::size_t(b) * kBtfRingCount + std::size_t(r)];
+      for (int r = 0; r < int(R_); ++r) {
+        const std::uint32_t own = view_chroma_[k * R_ + std::size_t(r)];
+        const std::uint32_t c = books_.l2_chroma[std::size_t(b) * R_ + std::size_t(r)];
         // The slice's own level-2 entry's chroma passed level 2's test against the data.
-        if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * kBtfRingCount + std::size_t(r)])
+        if (own != kNoChroma && c != own && c != books_.l2_chroma[std::size_t(a) * R_ + std::size_t(r)])
           err += double(s) * s * level3ChromaError(c, own, a, r);
       }
     return err;
@@ -596,7 +614,7 @@ class Compressor {
   // sum_a y_a^2 |e_a - o_a|^2 over ring r's lights: chroma entries `entry` and `own` weighted by
   // the luminance y of level-2 entry a (unscaled).
   double level3ChromaError(std::uint32_t entry, std::uint32_t own, std::uint32_t a, int r) const {
-    const int n = btfRingSize(r), start = btfRingStart(r);
+    const int n = layout_.size(r), start = layout_.start(r);
     const float* y = l2_->entry(a) + start;
     const float* e = chroma_books_[std::size_t(r)].entry(entry);
     const float* o = chroma_books_[std::size_t(r)].entry(own);
@@ -617,7 +635,7 @@ class Compressor {
   };
   std::optional<Level3Exceptions> level3Exceptions(std::size_t t, std::uint32_t entry, std::size_t max_views) const {
     const std::size_t V = views_;
-    std::array<double, kBtfDirectionCount> x2, y2, xy, chroma;
+    std::vector<double> x2(V), y2(V), xy(V), chroma(V);
     const float* q = l3_->entry(entry);
     for (std::size_t v = 0; v < V; ++v) {
       const std::size_t k = t * V + v;
@@ -633,8 +651,7 @@ class Compressor {
     const double lum_tol2 = tol * tol * texel2;
     const double chroma_tol2 = level3ChromaTolerance2(t);
     if (!(lum_tol2 > 0) || !(chroma_tol2 > 0)) return std::nullopt;
-    std::array<bool, kBtfDirectionCount> kept;
-    kept.fill(true);
+    std::vector<bool> kept(V, true);
     Level3Exceptions out;
     for (;;) {
       double sx2 = 0, sy2 = 0, sxy = 0, sch = 0;
@@ -693,15 +710,13 @@ class Compressor {
   // their scales relative to the texel's scale on the kept views.
   std::uint32_t addLevel3Exception(std::size_t t, std::uint32_t parent, const Level3Exceptions& ex) {
     const std::size_t V = views_;
-    std::uint32_t e2[kBtfDirectionCount];
-    std::uint16_t sc[kBtfDirectionCount];
-    std::copy_n(&out_->l3_index[std::size_t(parent) * V], V, e2);
-    std::copy_n(&out_->l3_scale[std::size_t(parent) * V], V, sc);
+    std::vector<std::uint32_t> e2(&out_->l3_index[std::size_t(parent) * V], &out_->l3_index[std::size_t(parent) * V] + V);
+    std::vector<std::uint16_t> sc(&out_->l3_scale[std::size_t(parent) * V], &out_->l3_scale[std::size_t(parent) * V] + V);
     for (const std::uint32_t v : ex.views) {
       e2[v] = view_index_[t * V + v];
       sc[v] = encodeVqScale(float(double(decodeVqScale(view_scale_[t * V + v])) / ex.scale), precision_.scale_shift);
     }
-    return addLevel3Entry(e2, sc, parent);
+    return addLevel3Entry(e2.data(), sc.data(), parent);
   }
 
   void level3() {
@@ -738,9 +753,9 @@ class Compressor {
             if (near->second.views.empty()) return near->first;
             return addLevel3Exception(t, near->first, near->second);
           }
-          std::uint16_t rel[kBtfDirectionCount];
+          std::vector<std::uint16_t> rel(V);
           for (std::size_t v = 0; v < V; ++v) rel[v] = encodeVqScale(key(t)[v], precision_.scale_shift);
-          return addLevel3Entry(&view_index_[t * V], rel);
+          return addLevel3Entry(&view_index_[t * V], rel.data());
         },
         // Exact: the bounded search missed reusable texels on the calibrated print
         // (docs/design-notes.md#vq-level-3-search). Its cost grows as texels x entries, quadratic
@@ -758,20 +773,29 @@ class Compressor {
   }
 
   const VqOptions& options_;
-  const VqPrecision precision_ = vqPrecisionFor(options_.epsilon);
+  const VqPrecision precision_;
   VqBtf::Impl& books_;              // shared codebooks: level 1, chromaticity, level 2
+  const BtfRingLayout& layout_;     // books_'s
+  const std::size_t R_, L_;         // rings and lights
+  // Level 1's parallel jobs per view: each ring's chroma and, for rings of more than one light,
+  // its level-1 codebook; largest rings first.
+  struct RingJob {
+    int ring;
+    bool chroma;
+  };
+  std::vector<RingJob> jobs_;
   const BtfSource* source_ = nullptr;  // the material being compressed
   VqBtf::Impl* out_ = nullptr;         // its level-3 codebook and top stream
   std::size_t texels_ = 0;
   std::size_t views_ = 0;  // held by the source; per-view streams are indexed by slot (btf_view_set.h)
   std::vector<Codebook> l1_;
-  std::array<std::vector<float>, kBtfRingCount> level1_entry_;  // storeLevel1Entry's result, per ring
+  std::vector<std::vector<float>> level1_entry_;  // storeLevel1Entry's result, per ring
   std::optional<Codebook> l2_, l3_;
   std::vector<float> l2_norm2_, l3_norm2_;
   std::vector<Codebook> chroma_books_;  // per ring, decoded chroma functions (2 n values)
   // Per view (level 1 -> level 2).
   std::vector<float> units_, norms_, slices_, slice_norm_, cfun_;
-  std::array<double, kBtfRingCount> ring_rms_{};  // RMS of each ring's luminance norms over the texels
+  std::vector<double> ring_rms_;  // RMS of each ring's luminance norms over the texels
   std::vector<std::uint32_t> chroma_, entries_;
   std::vector<std::uint16_t> scales_;
   // Per (texel, view) for level 3.
@@ -809,8 +833,8 @@ void inArena(int threads, F&& work) {
 }
 
 std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptions& options, std::string name) {
-  source.views().requireUbo2003("VQ compression of " + source.name() + " (its level-1 codebooks are built per ring)");
   auto impl = std::make_shared<VqBtf::Impl>();
+  impl->setLayout(BtfRingLayout::of(source.directions(), "VQ compression of " + source.name()));
   impl->width = source.width();
   impl->height = source.height();
   impl->name = std::move(name);
@@ -825,9 +849,11 @@ std::vector<VqRingBasis> vqRingBasesFor(const BtfSource& source, const VqOptions
   if (!options.level1_cut || !(options.epsilon > 0.0f)) return {};
   std::vector<Rgb> view;
   source.loadView(source.views().view(0), view);
-  if (view.size() != source.texelCount() * kBtfDirectionCount)
+  const BtfRingLayout layout = BtfRingLayout::of(source.directions(), "VQ compression of " + source.name());
+  if (view.size() != source.texelCount() * std::size_t(layout.lightCount()))
     throw Error(source.name() + ": view " + std::to_string(source.views().view(0)) + " has the wrong number of values");
-  return learnVqRingBases(view, source.texelCount(), float(std::exp2(vqPrecisionFor(options.epsilon).value_shift) / 65535.0));
+  const int value_shift = vqPrecisionFor(options.epsilon, layout.maxSize()).value_shift;
+  return learnVqRingBases(view, source.texelCount(), layout, float(std::exp2(value_shift) / 65535.0));
 }
 
 }  // namespace
@@ -861,7 +887,17 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
   VqBtf::Impl books;
   books.options = options;
   std::vector<std::shared_ptr<VqBtf::Impl>> impls;
-  for (std::size_t i = 0; i < sources.size(); ++i) impls.push_back(materialImpl(*sources[i], options, names[i]));
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    impls.push_back(materialImpl(*sources[i], options, names[i]));
+    // The shared codebooks are per ring: one layout for all (sets that differ only in where their
+    // lights were moved aside share one).
+    if (impls[i]->layout != impls.front()->layout)
+      throw Error("a VQ database shares its codebooks per light ring: " + sources[i]->name() + " (" +
+                  sources[i]->directions().describe() + ", " + impls[i]->layout.describe() + ") and " +
+                  sources.front()->name() + " (" + sources.front()->directions().describe() + ", " +
+                  impls.front()->layout.describe() + ") have different rings");
+  }
+  books.setLayout(impls.front()->layout);
   inArena(options.threads, [&] {
     Compressor compressor(options, books, vqRingBasesFor(*sources.front(), options));
     for (std::size_t i = 0; i < sources.size(); ++i) compressor.run(*sources[i], *impls[i]);

@@ -63,7 +63,7 @@ std::vector<ContainerSection> databaseSections(const std::vector<VqBtf>& materia
   for (const VqBtf& material : materials) {
     const VqBtf::Impl& m = material.impl();
     nlohmann::json entry{{"name", m.name}, {"width", m.width}, {"height", m.height}};
-    if (!m.views.complete()) entry["views"] = m.views.views();
+    addVqDirectionsHeader(m, entry);
     if (m.options.levels == 3) entry["level3_entries"] = m.l3Count();
     list.push_back(std::move(entry));
   }
@@ -117,6 +117,9 @@ VqDatabase::VqDatabase(std::vector<VqBtf> materials) : materials_(std::move(mate
     if (!sameOptions(m.options, first.options))
       throw Error("material '" + m.name + "' was compressed with " + describeOptions(m.options) + ", material '" +
                   first.name + "' with " + describeOptions(first.options) + ": a database has one set of options");
+    if (m.layout != first.layout)
+      throw Error("material '" + m.name + "' has other light rings (" + m.layout.describe() + ") than '" + first.name +
+                  "' (" + first.layout.describe() + "): a database shares its codebooks per ring");
     if (&m != &first && !sameShared(m, first))
       throw Error("material '" + m.name + "' does not share the codebooks of '" + first.name +
                   "' (materials compressed apart are joined by mergeVqDatabases)");
@@ -190,13 +193,22 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     throw FileError(path, "VQ database header lists no materials, or more than its sections can hold");
   shared_entries = vqHeaderCounts(header, "codebook_entries", path);
   readVqOptions(header, path, shared.options);
+  // The shared codebooks are per ring: the first material's layout is every material's (checked below).
+  try {
+    readVqDirectionsHeader(list.at(0), path, shared);
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, "VQ database header's material 0 is invalid: " + std::string(e.what()));
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(path, "VQ database header's material 0 has invalid directions or views: " + std::string(e.what()));
+  }
   readVqSharedSections(sections, path, shared);
   std::vector<std::shared_ptr<VqBtf::Impl>> impls, skipped;
   std::set<std::string> names;
   for (std::size_t i = 0; i < list.size(); ++i) {
     auto m = std::make_shared<VqBtf::Impl>();
     m->options = shared.options;
-    copyShared(shared, *m);
     std::size_t l3_entries = 0;
     try {
       const nlohmann::json& entry = list.at(i);
@@ -204,7 +216,11 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
       m->name = entry.at("name").get<std::string>();
       m->width = vqHeaderInt(entry, "width", path);
       m->height = vqHeaderInt(entry, "height", path);
-      if (entry.contains("views")) m->views = BtfViewSet(entry.at("views").get<std::vector<int>>());
+      readVqDirectionsHeader(entry, path, *m);
+      if (m->layout != shared.layout)
+        throw FileError(path, "VQ database material " + std::to_string(i) + " has other light rings (" + m->layout.describe() +
+                                  ") than material 0 (" + shared.layout.describe() + ")");
+      copyShared(shared, *m);
       if (m->options.levels == 3) {
         const nlohmann::json& n = entry.at("level3_entries");
         if (!n.is_number_unsigned())
@@ -217,7 +233,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     } catch (const FileError&) {
       throw;
     } catch (const Error& e) {
-      throw FileError(path, "VQ database header's material " + std::to_string(i) + " has invalid views: " + e.what());
+      throw FileError(path, "VQ database header's material " + std::to_string(i) + " has invalid directions or views: " + e.what());
     }
     if (m->name.empty() || !names.insert(m->name).second)
       throw FileError(path, "VQ database material " + std::to_string(i) + " has an empty or repeated name '" + m->name + "'");
@@ -239,7 +255,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   }
   double raw = 0;
   for (const auto* list_of : {&impls, &skipped})
-    for (const auto& m : *list_of) raw += double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
+    for (const auto& m : *list_of) raw += vqRawValues(*m);
   setDatabaseStats(impls, raw, std::filesystem::file_size(path));
   // Asked for one material that is not there: the names, for the caller to list.
   if (!only.empty() && impls.empty()) return skipped;
@@ -258,19 +274,29 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
     for (const std::string& name : parts[p].names())
       if (!names.insert(name).second) throw Error("cannot merge: two materials are named '" + name + "'");
   }
+  // The codebooks are per ring: the parts must share their rings.
+  const BtfRingLayout& layout = parts.front().materials().front().impl().layout;
+  for (std::size_t p = 0; p < parts.size(); ++p)
+    if (parts[p].materials().front().impl().layout != layout)
+      throw Error("cannot merge: " + label(p) + " codes its lights in " + parts[p].materials().front().impl().layout.describe() +
+                  ", " + label(0) + " in " + layout.describe() + " (their direction sets differ)");
   // The merged shared codebooks: every part's entries, each distinct entry once, in part order (so
   // the first part's entries keep their indices unless it repeats one).
   VqBtf::Impl books;
+  books.setLayout(layout);
+  const std::size_t R = books.ringCount();
   std::vector<EntryInterner<std::uint16_t>> l1;
   std::vector<EntryInterner<std::int32_t>> chroma;
-  for (int r = 0; r < kBtfRingCount; ++r) {
-    l1.emplace_back(books.l1[std::size_t(r)], std::size_t(btfRingSize(r)));
-    chroma.emplace_back(books.chroma[std::size_t(r)], 2 * std::size_t(btfRingSize(r)));
+  l1.reserve(R);
+  chroma.reserve(R);
+  for (int r = 0; r < int(R); ++r) {
+    l1.emplace_back(books.l1[std::size_t(r)], std::size_t(books.ringSize(r)));
+    chroma.emplace_back(books.chroma[std::size_t(r)], 2 * std::size_t(books.ringSize(r)));
   }
   // A ring stays basis-coded only where every part has the same basis (parts compressed alone learn
   // their own): then each merged entry keeps the coefficients it came with. Elsewhere the merged
   // ring stores its values one by one, which decodes to the same codes.
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  for (int r = 0; r < int(R); ++r) {
     const VqRingBasis& basis = parts.front().materials().front().impl().l1_basis[std::size_t(r)];
     bool common = !basis.empty();
     for (const VqDatabase& part : parts) {
@@ -279,13 +305,13 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
     if (common) books.l1_basis[std::size_t(r)] = basis;
   }
   std::vector<std::uint32_t> l2_key_book;  // (index, scale, chroma) per ring, as one entry
-  EntryInterner<std::uint32_t> l2(l2_key_book, 3 * kBtfRingCount);
+  EntryInterner<std::uint32_t> l2(l2_key_book, 3 * R);
   std::vector<std::shared_ptr<VqBtf::Impl>> impls;
   for (const VqDatabase& part : parts) {
     const VqBtf::Impl& src = part.materials().front().impl();
-    std::array<std::vector<std::uint32_t>, kBtfRingCount> l1_map, chroma_map;
-    for (int r = 0; r < kBtfRingCount; ++r) {
-      const std::size_t n = std::size_t(btfRingSize(r));
+    std::vector<std::vector<std::uint32_t>> l1_map(R), chroma_map(R);
+    for (int r = 0; r < int(R); ++r) {
+      const std::size_t n = std::size_t(books.ringSize(r));
       for (std::size_t e = 0; e < src.l1Count(r); ++e) {
         const std::size_t before = books.l1[std::size_t(r)].size();
         l1_map[std::size_t(r)].push_back(l1[std::size_t(r)].intern(&src.l1[std::size_t(r)][e * n]));
@@ -299,21 +325,21 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
     }
     std::vector<std::uint32_t> l2_map;
     for (std::size_t e = 0; e < src.l2Count(); ++e) {
-      std::uint32_t key[3 * kBtfRingCount];
-      for (int r = 0; r < kBtfRingCount; ++r) {
-        const std::size_t k = e * kBtfRingCount + std::size_t(r);
-        key[r] = l1_map[std::size_t(r)][src.l2_index[k]];
-        key[kBtfRingCount + r] = src.l2_scale[k];
-        key[2 * kBtfRingCount + r] = chroma_map[std::size_t(r)][src.l2_chroma[k]];
+      std::vector<std::uint32_t> key(3 * R);
+      for (std::size_t r = 0; r < R; ++r) {
+        const std::size_t k = e * R + r;
+        key[r] = l1_map[r][src.l2_index[k]];
+        key[R + r] = src.l2_scale[k];
+        key[2 * R + r] = chroma_map[r][src.l2_chroma[k]];
       }
-      l2_map.push_back(l2.intern(key));
+      l2_map.push_back(l2.intern(key.data()));
     }
     for (const VqBtf& material : part.materials()) {
       auto m = std::make_shared<VqBtf::Impl>(material.impl());
       for (auto& e : m->l3_index) e = l2_map[e];
       if (options.levels == 1) {
         for (std::size_t i = 0; i < m->top_index.size(); ++i) {
-          const std::size_t r = i % kBtfRingCount;
+          const std::size_t r = i % R;
           m->top_index[i] = l1_map[r][m->top_index[i]];
           m->top_chroma[i] = chroma_map[r][m->top_chroma[i]];
         }
@@ -323,12 +349,12 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
       impls.push_back(std::move(m));
     }
   }
-  for (std::size_t e = 0; e < l2_key_book.size() / (3 * kBtfRingCount); ++e) {
-    const std::uint32_t* key = &l2_key_book[e * 3 * kBtfRingCount];
-    for (int r = 0; r < kBtfRingCount; ++r) {
+  for (std::size_t e = 0; e < l2_key_book.size() / (3 * R); ++e) {
+    const std::uint32_t* key = &l2_key_book[e * 3 * R];
+    for (std::size_t r = 0; r < R; ++r) {
       books.l2_index.push_back(key[r]);
-      books.l2_scale.push_back(std::uint16_t(key[kBtfRingCount + r]));
-      books.l2_chroma.push_back(key[2 * kBtfRingCount + r]);
+      books.l2_scale.push_back(std::uint16_t(key[R + r]));
+      books.l2_chroma.push_back(key[2 * R + r]);
     }
   }
   std::vector<VqBtf> materials;

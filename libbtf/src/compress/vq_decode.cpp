@@ -28,14 +28,21 @@ void VqBtf::Impl::prepare(const std::string& what) {
   if (width < 1 || height < 1) throw Error(what + ": invalid texel size");
   if (options.levels < 1 || options.levels > 3) throw Error(what + ": invalid level count " + std::to_string(options.levels));
   const std::size_t T = std::size_t(width) * std::size_t(height);
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  const std::size_t R = ringCount();
+  if (l1.size() != R || chroma.size() != R || l1_basis.size() != R || l1_coef.size() != R)
+    throw Error(what + ": codebooks for " + std::to_string(l1.size()) + " rings, the layout has " + std::to_string(R));
+  if (std::size_t(layout.lightCount()) != std::size_t(views.directions().maxLightCount()))
+    throw Error(what + ": " + layout.describe() + " for " + views.directions().describe());
+  l1_cdf.resize(R);
+  l1_sum.resize(R);
+  for (int r = 0; r < int(R); ++r) {
     if (l1[std::size_t(r)].empty()) throw Error(what + ": level-1 codebook of ring " + std::to_string(r) + " is empty");
-    if (l1[std::size_t(r)].size() % std::size_t(btfRingSize(r)) != 0)
+    if (l1[std::size_t(r)].size() % std::size_t(ringSize(r)) != 0)
       throw Error(what + ": level-1 codebook of ring " + std::to_string(r) + " has a partial entry");
   }
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  for (int r = 0; r < int(R); ++r) {
     const auto& c = chroma[std::size_t(r)];
-    if (c.empty() || c.size() % (2 * std::size_t(btfRingSize(r))) != 0)
+    if (c.empty() || c.size() % (2 * std::size_t(ringSize(r))) != 0)
       throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " is empty or has a partial entry");
     for (std::int32_t g : c)
       if (g < 0) throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " holds a negative value");
@@ -43,7 +50,7 @@ void VqBtf::Impl::prepare(const std::string& what) {
   // Level-1 and chroma indices live where the level below the top stream is, one per ring.
   auto checkPerRing = [&](const std::vector<std::uint32_t>& idx, const std::string& stream, auto count) {
     for (std::size_t i = 0; i < idx.size(); ++i) {
-      const int r = int(i % kBtfRingCount);
+      const int r = int(i % R);
       if (idx[i] >= count(r))
         throw Error(what + ": " + stream + " index " + std::to_string(idx[i]) + " of ring " + std::to_string(r) +
                     " is outside its codebook of " + std::to_string(count(r)) + " entries");
@@ -56,7 +63,7 @@ void VqBtf::Impl::prepare(const std::string& what) {
     checkPerRing(idx, stream, [&](int r) { return chromaCount(r); });
   };
   if (options.levels == 1) {
-    const std::size_t n = T * viewCount() * kBtfRingCount;
+    const std::size_t n = T * viewCount() * R;
     checkSize(top_index.size(), n, what, "top/index");
     checkSize(top_scale.size(), n, what, "top/scale");
     checkSize(top_chroma.size(), n, what, "top/chroma");
@@ -66,7 +73,7 @@ void VqBtf::Impl::prepare(const std::string& what) {
     if (l2_index.empty()) throw Error(what + ": the level-2 codebook is empty");
     checkSize(l2_scale.size(), l2_index.size(), what, "level2/scale");
     checkSize(l2_chroma.size(), l2_index.size(), what, "level2/chroma");
-    if (l2_index.size() % kBtfRingCount != 0) throw Error(what + ": the level-2 codebook has a partial entry");
+    if (l2_index.size() % R != 0) throw Error(what + ": the level-2 codebook has a partial entry");
     checkL1(l2_index, "level2/index");
     checkChroma(l2_chroma, "level2/chroma");
     if (options.levels == 2) {
@@ -88,19 +95,19 @@ void VqBtf::Impl::prepare(const std::string& what) {
       checkIndices(top_index, l3Count(), what, "top/index");
     }
   }
-  for (int r = 0; r < kBtfRingCount; ++r)
+  for (int r = 0; r < int(R); ++r)
     for (std::int32_t g : chroma[std::size_t(r)])
       if (g > 65535)
         throw Error(what + ": the chromaticity codebook of ring " + std::to_string(r) + " holds " + std::to_string(g) +
                     ", beyond the 16-bit grid");
   // Decoded tables.
-  for (int r = 0; r < kBtfRingCount; ++r) {
-    const std::size_t n = std::size_t(btfRingSize(r)), count = l1Count(r);
+  for (int r = 0; r < int(R); ++r) {
+    const std::size_t n = std::size_t(ringSize(r)), count = l1Count(r);
     auto& cdf = l1_cdf[std::size_t(r)];
     auto& sum = l1_sum[std::size_t(r)];
     cdf.resize(count * (n + 1));
     sum.resize(count);
-    std::array<float, kBtfDirectionCount> values;  // one entry, decoded
+    std::array<float, BtfRingLayout::kBandSize> values;  // one entry, decoded
     for (std::size_t e = 0; e < count; ++e) {
       for (std::size_t a = 0; a < n; ++a) values[a] = decodeVqEntryValue(l1[std::size_t(r)][e * n + a]);
       sum[e] = float(buildCdf1D(std::span<const float>(values.data(), n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
@@ -109,14 +116,15 @@ void VqBtf::Impl::prepare(const std::string& what) {
   chroma_step = vqChromaStep(options.chroma_epsilon);
   l1_flat.clear();
   chroma_flat.clear();
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  lights.assign(std::size_t(layout.lightCount()), {});
+  for (int r = 0; r < int(R); ++r) {
     if (l1_flat.size() + l1[std::size_t(r)].size() > std::size_t(INT32_MAX) ||
         chroma_flat.size() + chroma[std::size_t(r)].size() > std::size_t(INT32_MAX))
       throw Error(what + ": codebooks beyond 2^31 values");
-    for (int a = 0; a < btfRingSize(r); ++a)
-      lights[std::size_t(btfRingStart(r) + a)] = {std::uint32_t(l1_flat.size()) + std::uint32_t(a),
-                                                  std::uint32_t(chroma_flat.size()) + 2 * std::uint32_t(a),
-                                                  std::uint32_t(r), std::uint32_t(btfRingSize(r))};
+    for (int a = 0; a < ringSize(r); ++a)
+      lights[std::size_t(layout.light(r, a))] = {std::uint32_t(l1_flat.size()) + std::uint32_t(a),
+                                                 std::uint32_t(chroma_flat.size()) + 2 * std::uint32_t(a),
+                                                 std::uint32_t(r), std::uint32_t(ringSize(r))};
     l1_flat.insert(l1_flat.end(), l1[std::size_t(r)].begin(), l1[std::size_t(r)].end());
     for (std::int32_t g : chroma[std::size_t(r)]) chroma_flat.push_back(std::uint16_t(g));
   }
@@ -175,12 +183,15 @@ void VqBtf::loadView(int view, std::vector<Rgb>& out) const {
   const Impl& m = *impl_;
   m.views.require(view, m.name);
   const std::size_t T = std::size_t(m.width) * std::size_t(m.height);
-  out.resize(T * kBtfDirectionCount);
+  out.resize(T * std::size_t(m.layout.lightCount()));
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, T, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t t = range.begin(); t != range.end(); ++t)
-      for (int r = 0; r < kBtfRingCount; ++r) {
+      for (int r = 0; r < m.layout.ringCount(); ++r) {
         const Impl::RingCode code = m.ringCode(t, view, r);
-        for (int l = btfRingStart(r); l < btfRingStart(r) + btfRingSize(r); ++l) out[std::size_t(l) * T + t] = m.sample(code, l);
+        for (int a = 0; a < m.layout.size(r); ++a) {
+          const int l = m.layout.light(r, a);
+          out[std::size_t(l) * T + t] = m.sample(code, l);
+        }
       }
   });
 }
@@ -195,15 +206,17 @@ Rgb VqBtf::weightedSum(int x, int y, const int* views, const int* lights, const 
   return sum;
 }
 
-void VqBtf::lightRings(int x, int y, int view, std::array<LightRing, kBtfRingCount>& rings) const {
+const BtfRingLayout& VqBtf::ringLayout() const { return impl_->layout; }
+
+void VqBtf::lightRings(int x, int y, int view, std::span<LightRing> rings) const {
   const Impl& m = *impl_;
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
-  // The slice's code once, then its six rings (rather than six walks from the texel).
+  // The slice's code once, then its rings (rather than one walk from the texel per ring).
   Impl::ScaledIndex slice{};
   if (m.options.levels >= 2) slice = m.sliceCode(t, view);
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  for (int r = 0; r < m.layout.ringCount(); ++r) {
     const Impl::RingCode code = m.options.levels >= 2 ? m.ringCode(slice, r) : m.ringCode(t, view, r);
-    const std::size_t n = std::size_t(btfRingSize(r)), e = code.entry;
+    const std::size_t n = std::size_t(m.ringSize(r)), e = code.entry;
     rings[std::size_t(r)] = {&m.l1_cdf[std::size_t(r)][e * (n + 1)], m.l1_sum[std::size_t(r)][e], code.scale};
   }
 }

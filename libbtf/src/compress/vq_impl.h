@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "btf/compress/vq_btf.h"
-#include "btf/core/btf_directions.h"
+#include "btf/core/btf_ring_layout.h"
 #include "vq_basis.h"
 
 namespace btf {
@@ -56,7 +56,7 @@ inline float decodeVqEntryValue(std::uint16_t q) { return float(q) * (1.0f / 655
 // scale codes and new level-1 values to multiples of 2^shift, the coarsest power of two whose
 // rounding stays within kVqQuantizationShare * epsilon relative: a scale's rounding scales its
 // whole vector by at most 2^(step / 2) - 1, and a new unit level-1 entry moves by at most
-// sqrt(n) step / 2 (n values, at most the largest ring's). The byte-planar sections (vq_io.cpp) then hold zero or
+// sqrt(n) step / 2 (n values, at most the largest ring's, `max_ring_size`). The byte-planar sections (vq_io.cpp) then hold zero or
 // near-constant low planes, which zstd stores in almost nothing. Decoders read the codes as
 // before: the precision is the encoder's choice, not part of the format. A sixteenth of the
 // tolerance is the knee of the trade between bytes and error (docs/design-notes.md#vq-stored-precision).
@@ -65,13 +65,13 @@ struct VqPrecision {
   int scale_shift = 0;
   int value_shift = 0;
 };
-inline VqPrecision vqPrecisionFor(float epsilon) {
+inline VqPrecision vqPrecisionFor(float epsilon, int max_ring_size) {
   const double budget = kVqQuantizationShare * double(epsilon);
   VqPrecision p;
   // Scale codes: step 2^shift / 1024 in log2; 2^(step / 2) - 1 <= budget.
   while (p.scale_shift < 10 && std::exp2(std::exp2(p.scale_shift + 1) / 2048.0) - 1.0 <= budget) ++p.scale_shift;
   // Level-1 values: step 2^shift / 65535; sqrt(n) step / 2 <= budget, n the largest ring's size.
-  const double n = *std::max_element(kBtfRingSizes.begin(), kBtfRingSizes.end());
+  const double n = double(max_ring_size);
   while (p.value_shift < 12 && std::sqrt(n) * std::exp2(p.value_shift + 1) / (2.0 * 65535.0) <= budget) ++p.value_shift;
   return p;
 }
@@ -94,18 +94,28 @@ struct VqBtf::Impl {
   BtfViewSet views;
   VqOptions options;
   VqStats stats;
+  // The lights' rings (core/btf_ring_layout.h): every per-ring codebook and code below is indexed
+  // by ring, and a ring's values by place. Set with setLayout, which sizes the per-ring vectors.
+  BtfRingLayout layout = BtfRingLayout::ubo2003();
+  void setLayout(BtfRingLayout l) {
+    layout = std::move(l);
+    const std::size_t R = std::size_t(layout.ringCount());
+    l1.resize(R), l1_basis.resize(R), l1_coef.resize(R), chroma.resize(R), l1_cdf.resize(R), l1_sum.resize(R);
+  }
+  std::size_t ringCount() const { return std::size_t(layout.ringCount()); }
+  int ringSize(int ring) const { return layout.size(ring); }
 
-  // Level 1: per ring, entries of btfRingSize(ring) values (ring 0: the single entry {1}).
-  std::array<std::vector<std::uint16_t>, kBtfRingCount> l1;
+  // Level 1: per ring, entries of ringSize(ring) values (a ring of one light: the single entry {1}).
+  std::vector<std::vector<std::uint16_t>> l1 = std::vector<std::vector<std::uint16_t>>(6);
   // Rings coded in a learned basis (vq_basis.h): the basis and each entry's coefficients (entry-
-  // major, btfRingSize(ring) per entry), whose reconstruction l1 holds; both empty for rings stored
+  // major, ringSize(ring) per entry), whose reconstruction l1 holds; both empty for rings stored
   // value by value.
-  std::array<VqRingBasis, kBtfRingCount> l1_basis;
-  std::array<std::vector<std::int32_t>, kBtfRingCount> l1_coef;
-  // Chromaticity codebooks, per ring: entries of btfRingSize(ring) pairs (i, j), the grid
+  std::vector<VqRingBasis> l1_basis = std::vector<VqRingBasis>(6);
+  std::vector<std::vector<std::int32_t>> l1_coef = std::vector<std::vector<std::int32_t>>(6);
+  // Chromaticity codebooks, per ring: entries of ringSize(ring) pairs (i, j), the grid
   // coordinates of (R/Y, B/Y) = (i, j) * vqChromaStep(chroma_epsilon) at each light azimuth.
-  std::array<std::vector<std::int32_t>, kBtfRingCount> chroma;
-  // Level 2 entries (levels >= 2): kBtfRingCount codes per entry.
+  std::vector<std::vector<std::int32_t>> chroma = std::vector<std::vector<std::int32_t>>(6);
+  // Level 2 entries (levels >= 2): ringCount() codes per entry.
   std::vector<std::uint32_t> l2_index, l2_chroma;
   std::vector<std::uint16_t> l2_scale;
   // Level 3 entries (levels == 3): one code per view held (views.count()) per entry.
@@ -152,26 +162,26 @@ struct VqBtf::Impl {
   std::vector<ScaledIndex> top_codes;  // per texel (levels 3) or texel and view (levels 2)
   std::vector<RingCode> top_ring_codes;  // per texel, view and ring (levels 1)
   // All rings' level-1 values (16-bit, as stored) and chroma grid pairs (i, j) in one array each,
-  // ring after ring, and where a light's values start in them: light l of ring r (azimuth a) has
-  // its value of level-1 entry e at l1_flat[lights[l].l1 + e * btfRingSize(r)], its chroma pair of
-  // chroma entry c at chroma_flat[lights[l].chroma + 2 * c * btfRingSize(r)].
+  // ring after ring, and where a light's values start in them: light l of ring r (place a) has
+  // its value of level-1 entry e at l1_flat[lights[l].l1 + e * ringSize(r)], its chroma pair of
+  // chroma entry c at chroma_flat[lights[l].chroma + 2 * c * ringSize(r)].
   std::vector<std::uint16_t> l1_flat, chroma_flat;
   struct LightAddress {
     std::uint32_t l1, chroma;
     std::uint32_t ring, size;
   };
-  std::array<LightAddress, kBtfDirectionCount> lights{};
+  std::vector<LightAddress> lights;  // per light index
   float chroma_step = 0;
   // Per ring and level-1 entry, the normalized prefix sums of its values and their total, for
   // samplers (VqBtf::lightRings).
-  std::array<std::vector<float>, kBtfRingCount> l1_cdf, l1_sum;
+  std::vector<std::vector<float>> l1_cdf = std::vector<std::vector<float>>(6), l1_sum = std::vector<std::vector<float>>(6);
 
-  std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(btfRingSize(ring)); }
-  std::size_t l2Count() const { return l2_index.size() / kBtfRingCount; }
+  std::size_t l1Count(int ring) const { return l1[std::size_t(ring)].size() / std::size_t(ringSize(ring)); }
+  std::size_t l2Count() const { return l2_index.size() / ringCount(); }
   std::size_t viewCount() const { return std::size_t(views.count()); }
   std::size_t slotOf(int v) const { return std::size_t(views.slot(v)); }
   std::size_t l3Count() const { return l3_index.size() / viewCount(); }
-  std::size_t chromaCount(int ring) const { return chroma[std::size_t(ring)].size() / (2 * std::size_t(btfRingSize(ring))); }
+  std::size_t chromaCount(int ring) const { return chroma[std::size_t(ring)].size() / (2 * std::size_t(ringSize(ring))); }
 
   // Checks that every index is inside its codebook and the streams have their sizes (throws
   // btf::Error with `what` prefixed), then builds the decoded tables.
@@ -190,13 +200,13 @@ struct VqBtf::Impl {
   static ScaledIndex unpacked(PackedIndex p) { return {p.entry, lookupVqScale(p.scale)}; }
   // Level-1 code of ring r under a slice's level-2 code.
   RingCode ringCode(const ScaledIndex& slice, int r) const {
-    RingCode c1 = l2_codes[std::size_t(slice.entry) * kBtfRingCount + std::size_t(r)];
+    RingCode c1 = l2_codes[std::size_t(slice.entry) * ringCount() + std::size_t(r)];
     c1.scale *= slice.scale;
     return c1;
   }
   // Level-1 code (entry, scale, chroma entry) of texel t, view v, ring r.
   RingCode ringCode(std::size_t t, int v, int r) const {
-    if (options.levels == 1) return top_ring_codes[(t * viewCount() + slotOf(v)) * kBtfRingCount + std::size_t(r)];
+    if (options.levels == 1) return top_ring_codes[(t * viewCount() + slotOf(v)) * ringCount() + std::size_t(r)];
     return ringCode(sliceCode(t, v), r);
   }
   // The measured sample of light `light` under its ring's level-1 code: luminance code.scale times

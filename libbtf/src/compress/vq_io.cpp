@@ -64,8 +64,7 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   header["width"] = m.width;
   header["height"] = m.height;
   header["name"] = m.name;
-  // The views held, only when some are missing (absent = all 81: files of complete BTFs are as before).
-  if (!m.views.complete()) header["views"] = m.views.views();
+  addVqDirectionsHeader(m, header);
   header["codebook_entries"] = m.stats.codebook_entries;
   std::vector<ContainerSection> sections;
   addVqHeaderSection(header, sections);
@@ -99,13 +98,14 @@ nlohmann::json vqOptionsHeader(const VqBtf::Impl& m) {
   header["chroma_epsilon"] = m.options.chroma_epsilon;
   header["energy_floor"] = m.options.energy_floor;
   std::vector<std::size_t> chroma_entries;
-  for (int r = 0; r < kBtfRingCount; ++r) chroma_entries.push_back(m.chromaCount(r));
+  for (int r = 0; r < int(m.ringCount()); ++r) chroma_entries.push_back(m.chromaCount(r));
   header["chroma_entries"] = chroma_entries;  // per ring, informative (the sections are authoritative)
   header["chroma_step"] = vqChromaStep(m.options.chroma_epsilon);
   return header;
 }
 
 int vqSectionsVersion(const VqBtf::Impl& m) {
+  if (vqHasOwnDirections(m)) return 4;
   if (hasDerivedLevel3(m)) return 3;
   for (const VqRingBasis& basis : m.l1_basis)
     if (!basis.empty()) return 2;
@@ -113,7 +113,7 @@ int vqSectionsVersion(const VqBtf::Impl& m) {
 }
 
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections) {
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  for (int r = 0; r < int(m.ringCount()); ++r) {
     const std::string ring = "level1/ring" + std::to_string(r);
     const VqRingBasis& basis = m.l1_basis[std::size_t(r)];
     if (basis.empty()) {
@@ -140,7 +140,7 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
       }
     addVqSection(sections, SectionType::Codebook, ring, packPlanar(zigzag));
   }
-  for (int r = 0; r < kBtfRingCount; ++r)
+  for (int r = 0; r < int(m.ringCount()); ++r)
     addVqSection(sections, SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
   if (m.options.levels >= 2) {
     addVqSection(sections, SectionType::Codebook, "level2/index", packPlanar(m.l2_index));
@@ -164,7 +164,7 @@ void addDerivedLevel3Sections(const VqBtf::Impl& m, const std::string& prefix, s
   const std::size_t V = m.viewCount();
   std::vector<std::uint32_t> index, counts;
   std::vector<std::uint16_t> scale;
-  std::vector<std::uint8_t> slots;
+  std::vector<std::uint32_t> slots;  // one byte each up to 256 views (packPlanar)
   for (std::size_t e = 0; e < m.l3Count(); ++e) {
     const std::uint32_t* row = &m.l3_index[e * V];
     const std::uint16_t* row_scale = &m.l3_scale[e * V];
@@ -177,7 +177,7 @@ void addDerivedLevel3Sections(const VqBtf::Impl& m, const std::string& prefix, s
     std::uint32_t count = 0;
     for (std::size_t v = 0; v < V; ++v)
       if (row[v] != m.l3_index[p * V + v] || row_scale[v] != m.l3_scale[p * V + v]) {
-        slots.push_back(std::uint8_t(v));
+        slots.push_back(std::uint32_t(v));
         index.push_back(row[v]);
         scale.push_back(row_scale[v]);
         ++count;
@@ -198,7 +198,7 @@ void readDerivedLevel3Sections(const std::vector<ContainerSection>& sections, co
   const std::string at = prefix + "level3/";
   m.l3_parent = unpackPlanar<std::uint32_t>(vqSection(sections, at + "parent", path), path);
   const auto counts = unpackPlanar<std::uint32_t>(vqSection(sections, at + "exception_count", path), path);
-  const auto slots = unpackPlanar<std::uint8_t>(vqSection(sections, at + "exception_view", path), path);
+  const auto slots = unpackPlanar<std::uint32_t>(vqSection(sections, at + "exception_view", path), path);
   const auto index = unpackPlanar<std::uint32_t>(vqSection(sections, at + "index", path), path);
   const auto scale = unpackPlanar<std::uint16_t>(vqSection(sections, at + "scale", path), path);
   // Each texel adds at most one entry to the seed: a bound on the rows before they are allocated
@@ -347,13 +347,13 @@ void readVqOptions(const nlohmann::json& header, const std::filesystem::path& pa
 
 void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, const std::filesystem::path& path) {
   std::vector<std::size_t> expected;
-  for (int r = 0; r < kBtfRingCount; ++r) expected.push_back(m.chromaCount(r));
+  for (int r = 0; r < int(m.ringCount()); ++r) expected.push_back(m.chromaCount(r));
   if (vqHeaderCounts(header, "chroma_entries", path) != expected)
     throw FileError(path, "VQ header's chroma_entries disagree with its chromaticity codebook sections (an edited header?)");
 }
 
 void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m) {
-  for (int r = 0; r < kBtfRingCount; ++r) {
+  for (int r = 0; r < int(m.ringCount()); ++r) {
     const std::string ring = "level1/ring" + std::to_string(r), basis_name = "level1/basis" + std::to_string(r);
     const auto basis_section =
         std::find_if(sections.begin(), sections.end(), [&](const ContainerSection& s) { return s.name == basis_name; });
@@ -361,8 +361,8 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
       m.l1[std::size_t(r)] = unpackPlanar<std::uint16_t>(vqSection(sections, ring, path), path);
       continue;
     }
-    const std::size_t n = std::size_t(btfRingSize(r));
-    if (r == 0 || basis_section->data.size() != (1 + n * n) * sizeof(float))
+    const std::size_t n = std::size_t(m.ringSize(r));
+    if (n == 1 || basis_section->data.size() != (1 + n * n) * sizeof(float))
       throw FileError(path, "section " + basis_name + " is not a step and a " + std::to_string(n) + " x " +
                                 std::to_string(n) + " basis");
     ByteReader in(*basis_section, path);
@@ -386,7 +386,7 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
     m.l1[std::size_t(r)].resize(zigzag.size());
     for (std::size_t e = 0; e < entries; ++e) vqBasisCodes(basis, &c[e * n], &m.l1[std::size_t(r)][e * n]);
   }
-  for (int r = 0; r < kBtfRingCount; ++r)
+  for (int r = 0; r < int(m.ringCount()); ++r)
     m.chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(vqSection(sections, "chroma/ring" + std::to_string(r), path), path);
   if (m.options.levels >= 2) {
     m.l2_index = unpackPlanar<std::uint32_t>(vqSection(sections, "level2/index", path), path);
@@ -436,7 +436,8 @@ void prepareReadVq(VqBtf::Impl& m, const std::filesystem::path& path) {
 std::vector<std::size_t> vqCodebookEntries(const VqBtf::Impl& m) {
   std::vector<std::size_t> entries;
   std::size_t l1 = 0;
-  for (int r = 1; r < kBtfRingCount; ++r) l1 += m.l1Count(r);
+  for (int r = 0; r < int(m.ringCount()); ++r)
+    if (m.ringSize(r) > 1) l1 += m.l1Count(r);
   entries.push_back(l1);
   if (m.options.levels >= 2) entries.push_back(m.l2Count());
   if (m.options.levels >= 3) entries.push_back(m.l3Count());
@@ -489,13 +490,13 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
     m->height = vqHeaderInt(header, "height", path);
     m->name = header.at("name").get<std::string>();
     m->stats.codebook_entries = vqHeaderCounts(header, "codebook_entries", path);
-    if (header.contains("views")) m->views = BtfViewSet(header.at("views").get<std::vector<int>>());
+    readVqDirectionsHeader(header, path, *m);
   } catch (const nlohmann::json::exception& e) {
     throw FileError(path, std::string("VQ header is invalid: ") + e.what());
   } catch (const FileError&) {
     throw;
   } catch (const Error& e) {
-    throw FileError(path, std::string("VQ header's views are invalid: ") + e.what());
+    throw FileError(path, std::string("VQ header's directions or views are invalid: ") + e.what());
   }
   readVqOptions(header, path, m->options);
   if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
@@ -510,7 +511,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
     throw FileError(path, "VQ header's codebook entry counts disagree with its codebook sections (an edited header?)");
   checkVqChromaEntries(header, *m, path);
   m->stats.compressed_bytes = std::filesystem::file_size(path);
-  const double raw = double(m->width) * m->height * double(m->viewCount()) * kBtfDirectionCount * 3.0;
+  const double raw = vqRawValues(*m);
   m->stats.ratio_u8 = raw / double(m->stats.compressed_bytes);
   m->stats.ratio_f32 = 4.0 * m->stats.ratio_u8;
   return {m};

@@ -49,23 +49,23 @@ void pruneVqCodebooks(VqBtf::Impl& books, std::span<VqBtf::Impl* const> material
     for (const VqBtf::Impl* m : materials)
       for (std::uint32_t e : levels == 3 ? m->l3_index : m->top_index) mark(used, e, "level-2");
     const auto to = renumbering(used);
-    compact(books.l2_index, kBtfRingCount, to);
-    compact(books.l2_scale, kBtfRingCount, to);
-    compact(books.l2_chroma, kBtfRingCount, to);
+    compact(books.l2_index, books.ringCount(), to);
+    compact(books.l2_scale, books.ringCount(), to);
+    compact(books.l2_chroma, books.ringCount(), to);
     for (VqBtf::Impl* m : materials)
       for (std::uint32_t& e : levels == 3 ? m->l3_index : m->top_index) e = to[e];
   }
   // Level 1 and chromaticity, per ring: reached from the level-2 entries or (1 level) the top stream.
-  for (int r = 0; r < kBtfRingCount; ++r) {
-    const std::size_t ring = std::size_t(r), n = std::size_t(btfRingSize(r));
+  for (int r = 0; r < int(books.ringCount()); ++r) {
+    const std::size_t ring = std::size_t(r), n = std::size_t(books.ringSize(r));
     std::vector<bool> used1(books.l1Count(r), false), used_c(books.chromaCount(r), false);
     // Every (level-1 entry, chroma entry) pair of ring r that a code holds.
     auto visit = [&](auto&& f) {
       if (levels >= 2) {
-        for (std::size_t k = ring; k < books.l2_index.size(); k += kBtfRingCount) f(books.l2_index[k], books.l2_chroma[k]);
+        for (std::size_t k = ring; k < books.l2_index.size(); k += books.ringCount()) f(books.l2_index[k], books.l2_chroma[k]);
       } else {
         for (VqBtf::Impl* m : materials)
-          for (std::size_t k = ring; k < m->top_index.size(); k += kBtfRingCount) f(m->top_index[k], m->top_chroma[k]);
+          for (std::size_t k = ring; k < m->top_index.size(); k += books.ringCount()) f(m->top_index[k], m->top_chroma[k]);
       }
     };
     visit([&](std::uint32_t e, std::uint32_t c) {

@@ -29,13 +29,22 @@ inline std::string bareVqName(const std::string& name) {
 
 void addVqSection(std::vector<ContainerSection>& sections, SectionType type, std::string name, std::vector<std::byte> data);
 void addVqHeaderSection(const nlohmann::json& header, std::vector<ContainerSection>& sections);
+// The direction set, ring layout and views held (vq_directions.cpp): header keys "directions" and
+// "rings" when the set is not UBO2003, "views" when some are missing. The reader sets m.views and
+// m.layout (throws FileError, or btf::Error for a set the direction-set checks refuse).
+bool vqHasOwnDirections(const VqBtf::Impl& m);
+void addVqDirectionsHeader(const VqBtf::Impl& m, nlohmann::json& header);
+void readVqDirectionsHeader(const nlohmann::json& header, const std::filesystem::path& path, VqBtf::Impl& m);
+// Values of the BTF as stored before compression: texels x (view, light) pairs held x 3.
+double vqRawValues(const VqBtf::Impl& m);
 // Header keys of the options and the chroma grid (both formats).
 nlohmann::json vqOptionsHeader(const VqBtf::Impl& m);
-// Format version of the sections (both formats): 3 when level 3 has derived entries (vq_impl.h:
+// Format version of the sections (both formats): 4 when the BTF is on its own direction set
+// (vq_directions.cpp; a reader of 3 would take it for UBO2003), 3 when level 3 has derived entries (vq_impl.h:
 // "level3/parent" and exceptions alone in "level3/index"), 2 when a level-1 ring is basis-coded
 // (vq_basis.h: "level1/basis<r>" and coefficients in "level1/ring<r>"), else 1, as files were
 // before; an older reader would misread either. Readers take 1..kVqNewestSectionsVersion.
-inline constexpr int kVqNewestSectionsVersion = 3;
+inline constexpr int kVqNewestSectionsVersion = 4;
 bool hasDerivedLevel3(const VqBtf::Impl& m);
 int vqSectionsVersion(const VqBtf::Impl& m);
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections);

@@ -67,7 +67,7 @@ void decodeGroup(const VqBtf::Impl& m, const BtfSampleIndex* s, Count n, bool pr
     else
       c2 = m.l3_codes[k3[i]];
     scale[i] = c2.scale * scale[i];
-    k2[i] = std::size_t(c2.entry) * kBtfRingCount + m.lights[std::size_t(s[i].light)].ring;
+    k2[i] = std::size_t(c2.entry) * m.ringCount() + m.lights[std::size_t(s[i].light)].ring;
     prefetch(&m.l2_codes[k2[i]]);
   }
   // The last step as Impl::sample, on arrays (the compiler runs its arithmetic in vector lanes).

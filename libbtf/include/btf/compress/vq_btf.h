@@ -2,7 +2,8 @@
 // Texture Function Compression Based on Multi-Level Vector Quantization", the BTFBASE scheme).
 //
 // Level 1: the data is cut into small 1D functions over light azimuth (fixed texel, view and light
-// ring; ring sizes 1, 6, 12, 18, 20, 24 as in btf_directions.h), each normalized by a stored scale
+// ring; the rings of the BTF's direction set, core/btf_ring_layout.h: on the 81-direction set sizes
+// 1, 6, 12, 18, 20, 24 as in btf_directions.h), each normalized by a stored scale
 // and inserted one by one into a codebook searched with FLANN (compress/codebook.h): the nearest
 // entry the search finds is reused when within the tolerance, else the function becomes a new
 // entry. (The search is approximate, a bounded number of kd-tree visits, so that compression time
@@ -18,7 +19,7 @@
 // from the codebooks; loadView() decodes one view for comparisons and `btf decompress`.
 #pragma once
 
-#include <array>
+#include <span>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -26,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "btf/core/btf_ring_layout.h"
 #include "btf/io/btf_data.h"
 
 namespace btf {
@@ -37,8 +39,8 @@ namespace btf {
 //   light slices of one view at level 2, all texels at level 3): relative for bright vectors, an
 //   absolute floor for dark ones (shadowed, grazing), which a purely relative rule would give
 //   entries of their own although they add almost nothing to the error. Level 1 fits the
-//   luminance of a ring's 1D function, level 2 the level-1 reconstruction of a light slice (81
-//   values), level 3 the level-2 reconstruction of a texel (81 x 81 values). Summed over a batch,
+//   luminance of a ring's 1D function, level 2 the level-1 reconstruction of a light slice (one
+//   value per light), level 3 the level-2 reconstruction of a texel (views x lights values). Summed over a batch,
 //   the squared error is <= epsilon^2 (1 + energy_floor^2) times the batch's energy, so each level
 //   adds a relative RMS error <= e = epsilon sqrt(1 + energy_floor^2), and the luminance rel_rmse
 //   is <= (1 + e + 2 q)^levels - 1, where q is the rounding of what is stored: new entries'
@@ -52,13 +54,13 @@ namespace btf {
 //   (absolute: c is already normalized; R is the RMS ring norm of the ring's batch, so dark rings,
 //   whose colour adds little to the error, get the same floor as their luminance), checked
 //   against the data at level 1 and 2. Level 3 tests the whole texel, as it does its luminance:
-//   a texel may take another's entry when, summed over its 81 x 81 samples, the luminance-weighted
+//   a texel may take another's entry when, summed over its views x lights samples, the luminance-weighted
 //   squared difference between the entry's chroma and the texel's own verified chroma entries is
 //   <= chroma_epsilon^2 max(|Y|^2, (energy_floor R)^2) (weights from the level-2 reconstruction;
 //   rings where the entry keeps the texel's own or its slice's level-2 chroma add nothing), so by
 //   the triangle inequality level 3 at most doubles the chroma term below. (A test per ring and
 //   view, as level 2's, can never pass on camera data: one light's chroma noise exceeds any useful
-//   tolerance, and 486 rings must all pass.) New entries are stored on a grid of step
+//   tolerance, and on the 81-direction set 486 rings must all pass.) New entries are stored on a grid of step
 //   chroma_epsilon / 4 (vq_impl.h), within their own tolerance. Since |dRGB|^2 <= 1.0986 Y^2
 //   |dc|^2 and |RGB|^2 >= 1.7797 Y^2, the RGB rel_rmse is
 //   <= kmax / 1.334 * L + 0.786 m chroma_epsilon sqrt(1 + energy_floor^2), with L the luminance
@@ -122,17 +124,19 @@ class VqBtf final : public BtfSource, public BtfLookup {
   // that decides whether they run from cache (bench_btf.cpp measures the rate against it).
   std::size_t lookupTableBytes() const;
 
-  // The light slice of texel (x, y) and a view as its six rings, for samplers that work on the
+  // The rings its level 1 codes (core/btf_ring_layout.h): the direction set's, as compressed.
+  const BtfRingLayout& ringLayout() const;
+  // The light slice of texel (x, y) and a view as its rings, for samplers that work on the
   // compressed form (material/btf_material.h): ring r's level-1 entry as the normalized prefix
-  // sums of its values (cdf, btfRingSize(r) + 1 entries, as buildCdf1D writes them) and their
-  // total (sum); the ring's luminance at light azimuth a is scale * sum * (cdf[a + 1] - cdf[a]).
-  // A few lookups.
+  // sums of its values (cdf, ringLayout().size(r) + 1 entries, as buildCdf1D writes them) and their
+  // total (sum); the ring's luminance at place a is scale * sum * (cdf[a + 1] - cdf[a]).
+  // `rings` holds ringLayout().ringCount() entries. A few lookups.
   struct LightRing {
     const float* cdf;
     float sum;
     float scale;
   };
-  void lightRings(int x, int y, int view, std::array<LightRing, kBtfRingCount>& rings) const;
+  void lightRings(int x, int y, int view, std::span<LightRing> rings) const;
   // Sum over k < count of weights[k] * value(x, y, views[k], lights[k]): BtfMaterial's
   // interpolation in one call per texel rather than one virtual call per entry.
   Rgb weightedSum(int x, int y, const int* views, const int* lights, const float* weights, int count) const;
