@@ -16,6 +16,7 @@ find_package(zstd CONFIG REQUIRED)
 find_package(Eigen3 CONFIG REQUIRED)  # per-view PCA baseline (Ceres depends on it anyway)
 find_package(ZLIB REQUIRED)           # CRC-32 of .btfz sections
 find_package(Ceres CONFIG REQUIRED)   # least-squares fits of analytic models (fit/)
+find_package(Qhull CONFIG REQUIRED)   # spherical Delaunay triangulations of measured directions (core/)
 
 # Debian's OpenImageIO package lists /usr/include/opencv4 as an include directory although OpenCV
 # is not a dependency of the -dev package. Filter the missing folder out instead of installing OpenCV.

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench_compression.h"
+#include "bench_compression_scaling.h"
 #include "btf/compress/pca.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
@@ -57,6 +58,8 @@ struct Args {
   std::string inputs;  // measured BTF image folders, comma-separated
   // A published point to mark on the charts: "label,rel_rmse_display,mean_ssim,ratio_u8".
   std::string reference_point;
+  bool scaling = false;  // the time-scaling study (bench_compression_scaling.h)
+  CompressionScalingOptions scaling_options;
 };
 
 struct ReferencePoint {
@@ -112,7 +115,9 @@ double decodeRate(const BtfLookup& lookup, std::uint64_t seed) {
     q = {std::min(int(a.x * float(lookup.lookupWidth())), lookup.lookupWidth() - 1),
          std::min(int(a.y * float(lookup.lookupHeight())), lookup.lookupHeight() - 1),
          lookup.lookupViews().view(std::min(int(b.x * float(lookup.lookupViews().count())), lookup.lookupViews().count() - 1)),
-         std::min(int(b.y * kBtfDirectionCount), kBtfDirectionCount - 1)};
+         0};
+    const int lights = lookup.lookupViews().directions().lightCount(q.v);
+    q.l = std::min(int(b.y * float(lights)), lights - 1);
   }
   const auto start = std::chrono::steady_clock::now();
   float sink = 0;
@@ -350,6 +355,11 @@ void runBenchCompression(const Args& args) {
     epsilons = {0.04f};
     levels = {1, 3};
   }
+  if (args.scaling) {
+    CompressionScalingOptions o = args.scaling_options;
+    if (args.quick) o.sides = {4, 6, 8}, o.direction_side = 4, o.scattered = 40;
+    benchCompressionScaling(args.output, o);
+  }
   std::vector<Row> rows;
   for (const std::string& name : patterns) {
     const auto pattern = synthetic::parseBtfPattern(name);
@@ -408,6 +418,14 @@ void addBenchCompressionCommand(CLI::App& bench) {
   cmd->add_option("--inputs", args->inputs,
                   "Measured BTF image folders to bench beside the patterns (comma-separated; --patterns '' for "
                   "these alone)");
+  cmd->add_flag("--scaling", args->scaling,
+                "First measure how compression time grows with texels (three sizes on the Bonn dome and the 81-direction "
+                "set) and with directions (81, dome, a scattered set): texel-directions per second per core, "
+                "compression_scaling.csv and a chart");
+  cmd->add_option("--scaling-sizes", args->scaling_options.sides, "Texels per side of the texel study")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1024));
   cmd->add_option("--reference-point", args->reference_point,
                   "A published result to mark on the display-error and SSIM charts: LABEL,REL_RMSE_DISPLAY,MEAN_SSIM,"
                   "RATIO_U8");

@@ -25,6 +25,7 @@ packages=(
   libflann-dev            # kd-tree search of the VQ codebooks
   libeigen3-dev           # per-view PCA baseline (SVD)
   libceres-dev            # least-squares fits of analytic models (btf fit)
+  libqhull-dev            # spherical Delaunay triangulations of measured BTF directions
   libembree-dev libtbb-dev  # the renderer's BVH; TBB for parallel loops throughout
   libtinyobjloader-dev    # OBJ meshes (with .mtl) for scenes
   libnanoflann-dev        # a peer kd-tree measured against the photon map's own (btf bench render)

@@ -14,6 +14,7 @@
 #include "btf/io/btf_images.h"
 #include "btf/io/container.h"
 #include "btf/material/registry.h"
+#include "btf_scattered_directions.h"
 
 namespace btf {
 
@@ -124,6 +125,10 @@ struct BtfMaterial::LightTables {
   double total = 0;
   // Storage for the generic path (the VQ path points into the codebook instead).
   std::array<float, kBtfDirectionCount + kBtfRingCount> cdf_storage;
+  // On other sets (btf_scattered_directions.h): the view's light triangulation and the CDF of its
+  // triangles.
+  const HemisphereTriangulation* triangulation = nullptr;
+  std::vector<float> triangle_cdf;
 };
 
 BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter, std::string name)
@@ -135,10 +140,14 @@ BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter fi
   width_ = btf_->lookupWidth();
   height_ = btf_->lookupHeight();
   if (width_ < 1 || height_ < 1) throw Error("BtfMaterial: the BTF has no texels");
+  const BtfViewSet& views = btf_->lookupViews();
+  if (!views.directions().indexedAsUbo2003()) {
+    view_rings_ = 0;
+    scattered_ = std::make_shared<const BtfScatteredDirections>(views);
+    return;
+  }
   // Interpolation over wo needs whole rings from the pole; a BTF of other views (a few scattered
   // ones) has no sensible value between them.
-  const BtfViewSet& views = btf_->lookupViews();
-  views.requireUbo2003("a BTF material (" + name_ + ": evaluation and sampling interpolate on its rings)");
   view_rings_ = views.completeRingsFromPole();
   if (view_rings_ == 0 || views.count() != btfRingStart(view_rings_ - 1) + btfRingSize(view_rings_ - 1))
     throw Error("BtfMaterial needs the views of whole rings from the pole (e.g. all views up to theta 45); the BTF holds " +
@@ -147,19 +156,23 @@ BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter fi
 
 Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) const {
   if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return Rgb();
-  const DirectionStencil light = stencil(wi), view = stencil(wo, view_rings_);
   // The (view, light, weight) triples with weight > 0, shared by the texels.
   std::array<int, 16> views, lights;
   std::array<float, 16> weights;
   int count = 0;
-  for (int v = 0; v < view.count; ++v)
-    for (int l = 0; l < light.count; ++l) {
-      const float w = view.weight[std::size_t(v)] * light.weight[std::size_t(l)];
-      if (w == 0.0f) continue;
-      views[std::size_t(count)] = view.index[std::size_t(v)];
-      lights[std::size_t(count)] = light.index[std::size_t(l)];
-      weights[std::size_t(count++)] = w;
-    }
+  if (scattered_) {
+    count = scattered_->stencil(wi, wo, views.data(), lights.data(), weights.data());
+  } else {
+    const DirectionStencil light = stencil(wi), view = stencil(wo, view_rings_);
+    for (int v = 0; v < view.count; ++v)
+      for (int l = 0; l < light.count; ++l) {
+        const float w = view.weight[std::size_t(v)] * light.weight[std::size_t(l)];
+        if (w == 0.0f) continue;
+        views[std::size_t(count)] = view.index[std::size_t(v)];
+        lights[std::size_t(count)] = light.index[std::size_t(l)];
+        weights[std::size_t(count++)] = w;
+      }
+  }
   auto texelValue = [&](int x, int y) {
     if (vq_) return vq_->weightedSum(x, y, views.data(), lights.data(), weights.data(), count);
     Rgb sum;
@@ -183,7 +196,8 @@ Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) co
 }
 
 const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, glm::vec2 uv) const {
-  const int x = nearestTexel(uv.x, width_), y = nearestTexel(uv.y, height_), view = nearestView(wo, view_rings_);
+  const int x = nearestTexel(uv.x, width_), y = nearestTexel(uv.y, height_);
+  const int view = scattered_ ? scattered_->nearestView(wo) : nearestView(wo, view_rings_);
   // One slice's tables per thread are kept: pdf is mostly called for the same wo and uv as the
   // sample before it (MIS, chi-square quadrature), so the slice is decoded once. Keyed by a
   // per-material id, not the address, which a later material may reuse.
@@ -198,6 +212,22 @@ const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, gl
   cache.y = y;
   cache.view = view;
   LightTables& tables = cache.tables;
+  if (scattered_) {
+    // Triangle masses: solid angle x cos theta at the centre x the mean luminance of the corners.
+    const HemisphereTriangulation& lights = scattered_->lights(view);
+    tables.triangulation = &lights;
+    std::vector<float> lum(std::size_t(btf_->lookupViews().directions().lightCount(view)));
+    for (std::size_t l = 0; l < lum.size(); ++l) lum[l] = std::max(btf_->value(x, y, view, int(l)).luminance(), 0.0f);
+    std::vector<float> mass(std::size_t(lights.triangleCount()));
+    for (int t = 0; t < lights.triangleCount(); ++t) {
+      const auto& d = lights.triangleDirections(t);
+      const float mean = (lum[std::size_t(d[0])] + lum[std::size_t(d[1])] + lum[std::size_t(d[2])]) / 3.0f;
+      mass[std::size_t(t)] = mean * std::max(lights.triangleCosTheta(t), 0.0f) * lights.triangleSolidAngle(t);
+    }
+    tables.triangle_cdf.resize(mass.size() + 1);
+    tables.total = buildCdf1D(mass, tables.triangle_cdf);
+    return tables;
+  }
   const RingCells& cells = ringCells();
   std::array<float, kBtfRingCount> mass;
   if (vq_) {
@@ -235,6 +265,17 @@ std::optional<BtfMaterial::DirectionSample> BtfMaterial::sampleDirection(const g
   if (!(wo.z > 0.0f)) return std::nullopt;
   const LightTables& tables = lightTables(wo, uv);
   if (!(tables.total > 0)) return std::nullopt;
+  if (scattered_) {
+    const DiscreteSample t = sampleDiscrete(tables.triangle_cdf, u.x);
+    const HemisphereTriangulation& lights = *tables.triangulation;
+    const float density = t.probability / lights.triangleSolidAngle(int(t.index));
+    const glm::vec3 wi = lights.sampleTriangle(int(t.index), {t.remapped, u.y});
+    // A direction on an edge, within float rounding, may be located in the neighbour triangle: it
+    // is kept only where pdf() attributes it to the triangle it was drawn from, so that pdf is the
+    // density of what is returned (the set dropped has measure zero).
+    if (!(density > 0.0f) || !(wi.z > 0.0f) || lights.locate(wi) != int(t.index)) return std::nullopt;
+    return DirectionSample{wi, density};
+  }
   const DiscreteSample ring_choice = sampleDiscrete(tables.ring_cdf, u.x);
   const int r = int(ring_choice.index), n = btfRingSize(r);
   const std::span<const float> cdf(tables.cdf[std::size_t(r)], std::size_t(n) + 1);
@@ -259,6 +300,12 @@ float BtfMaterial::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) c
   if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return 0.0f;
   const LightTables& tables = lightTables(wo, uv);
   if (!(tables.total > 0)) return 0.0f;
+  if (scattered_) {
+    const int t = tables.triangulation->locate(wi);
+    if (t < 0) return 0.0f;
+    return (tables.triangle_cdf[std::size_t(t) + 1] - tables.triangle_cdf[std::size_t(t)]) /
+           tables.triangulation->triangleSolidAngle(t);
+  }
   int r, a;
   lightCell(wi, r, a);
   const float* cdf = tables.cdf[std::size_t(r)];
@@ -313,9 +360,6 @@ BTF_REGISTER_MATERIAL(btf, {.name = "btf",
                                 else if (f != "bilinear") p.fail("filter", "expected bilinear or nearest");
                               }
                               std::shared_ptr<const BtfSource> source = btfSourceParam(p);
-                              // Before any copy: a BTF on another set would be copied whole for nothing.
-                              source->views().requireUbo2003("a BTF material (" + source->name() +
-                                                             ": evaluation and sampling interpolate on its rings)");
                               std::shared_ptr<const BtfLookup> lookup = std::dynamic_pointer_cast<const BtfLookup>(source);
                               if (!lookup) lookup = std::make_shared<BtfData>(BtfData::copyOf(*source));
                               const std::filesystem::path file = p.path("file");

@@ -2,8 +2,8 @@
 // VqBtf evaluated from its codebooks, a PCA form), so nothing is decompressed as a whole. A BRDF
 // is a one-texel BTF.
 //
-// eval interpolates between the 81 measured directions within their ring structure, for wi and wo
-// alike: linear in theta between the two enclosing rings (constant beyond the last ring, 75
+// On the 81-direction set (and sets indexed as it, whose lights were moved aside), eval
+// interpolates between the measured directions within their ring structure, for wi and wo alike: linear in theta between the two enclosing rings (constant beyond the last ring, 75
 // degrees, or for wo the last ring of views a partial BTF holds: it needs whole rings from the
 // pole, e.g. one view at theta 0, which then serves every wo), linear in phi between the two
 // enclosing azimuths of each ring (ring 0 has one);
@@ -22,6 +22,17 @@
 // that piecewise-constant density, exactly what sample draws. On a VqBtf the rings come straight
 // from the codebook (VqBtf::lightRings: precomputed prefix sums per level-1 entry), so sampling
 // decodes nothing.
+//
+// On any other set (the Bonn dome, scattered or view-dependent lists) the rings are replaced by
+// spherical Delaunay triangulations (core/hemisphere_triangulation.h), one of the views held and
+// one of the lights of each view: eval weighs the three measured views around wo and, for each,
+// the three measured lights around wi by their barycentric weights (at most 9 pairs; exact at
+// measured directions; beyond the outermost directions constant along the elevation). sample
+// draws from the light slice of the held view nearest wo, one triangle of its light
+// triangulation with probability proportional to its solid angle x cos theta at its centre x the
+// mean luminance of its three corners, then a point uniform in the triangle's solid angle; pdf is
+// that piecewise-constant density. Why triangulations, not rings or a kernel: they work on any
+// directions, need no bandwidth, and interpolate from the fewest measured values.
 #pragma once
 
 #include <cstdint>
@@ -33,12 +44,14 @@
 namespace btf {
 
 class VqBtf;
+class BtfScatteredDirections;
 
 enum class BtfTexelFilter { Bilinear, Nearest };
 
 class BtfMaterial final : public Material {
  public:
-  // Throws btf::Error for a null BTF or one whose views are not whole rings from the pole.
+  // Throws btf::Error for a null BTF, or one on the 81-direction set whose views are not whole
+  // rings from the pole.
   explicit BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter = BtfTexelFilter::Bilinear,
                        std::string name = "btf");
 
@@ -66,7 +79,8 @@ class BtfMaterial final : public Material {
   BtfTexelFilter filter_;
   std::string name_;
   int width_, height_;
-  int view_rings_;  // rings of views held, from the pole (6 for a full BTF)
+  int view_rings_;  // rings of views held, from the pole (6 for a full BTF); 0 on other sets
+  std::shared_ptr<const BtfScatteredDirections> scattered_;  // on other sets, else null
   std::uint64_t id_;  // for the per-thread cache of the last light slice's tables
 };
 
