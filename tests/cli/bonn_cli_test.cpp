@@ -84,6 +84,8 @@ TEST(BonnCli, DamagedFilesFailNamingTheSection) {
   const CommandResult compressed = runBtf({"compress", (dir / "dome.btf").string(), (dir / "dome.btfz").string()});
   EXPECT_EQ(compressed.exit_code, 0) << compressed.output;
   EXPECT_THAT(compressed.output, HasSubstr("all 151 views (Bonn dome 1) x 151 lights"));
+  EXPECT_THAT(runBtf({"info", (dir / "dome.btfz").string()}).output,
+              HasSubstr("light rings of level 1: 10 rings of 1, 6, 12, 12, 12, 18, 18, 24, 24, 24 lights"));
   const CommandResult back = runBtf({"decompress", (dir / "dome.btfz").string(), (dir / "back.btf").string()});
   EXPECT_EQ(back.exit_code, 0) << back.output;
   const CommandResult info = runBtf({"info", (dir / "back.btf").string()});

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -159,6 +160,20 @@ void btfz(const fs::path& out) {
   const btf::BtfSource* sources[] = {&a, &b};
   btf::compressVqDatabase(sources, {"a", "b"}, options).write(scratch);
   put(out / "database.btfz", bytesOf(scratch));
+  // A BTF on its own direction set (format version 4: the header's "directions" and "rings"),
+  // with view-dependent lights: 2 views of 5 lights, one moved aside in view 1.
+  {
+    const std::vector<btf::BtfAngles> views = {{0, 0}, {40, 90}};
+    std::vector<std::vector<btf::BtfAngles>> lights(2, {{0, 0}, {20, 0}, {20, 120}, {20, 240}, {60, 30}});
+    lights[1][1] = {24, 10};
+    const auto set = std::make_shared<const btf::BtfDirectionSet>("seed set", views, lights);
+    btf::BtfData own(2, 1, "own-set", btf::BtfViewSet::all(set));
+    for (int v = 0; v < 2; ++v)
+      for (int l = 0; l < 5; ++l)
+        for (int x = 0; x < 2; ++x) own.at(x, 0, v, l) = btf::Rgb(0.1f + 0.1f * float(l), 0.2f + 0.05f * float(x), 0.3f);
+    btf::compressVq(own, options).write(scratch);
+    put(out / "own-set-2x1.btfz", bytesOf(scratch));
+  }
   // A texel that repeats the other but in one view (1.3 times as bright there): level 3 stores
   // it as a derived entry (compress/vq_impl.h), so the reader's exception sections are reached.
   btf::BtfData twins = makeBtf(2, 1, btf::BtfViewSet::upToTheta(30.0f), "twins");

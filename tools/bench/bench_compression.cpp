@@ -381,7 +381,8 @@ void runBenchCompression(const Args& args) {
     const BtfSource& source = cached ? static_cast<const BtfSource&>(*cached) : folder;
     benchMaterial(args, folder.name(), source, epsilons, levels, rows);
   }
-  if (rows.empty()) throw Error("bench compression: nothing to measure (no --patterns and no --inputs)");
+  if (rows.empty() && !args.scaling) throw Error("bench compression: nothing to measure (no --patterns and no --inputs)");
+  if (rows.empty()) return;
   writeCsv(std::filesystem::path(args.output) / "compression.csv", rows);
   const tools::GnuplotOutcome charts = drawCharts(args.output, rows, mark);
   if (args.brdfs) benchBrdfs(args.output, args.quick ? 0.04f : 0.01f, args.quick);

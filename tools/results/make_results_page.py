@@ -8,6 +8,7 @@ RUN_DIR is searched recursively for the files the benches write:
 
     sampling.csv                    btf bench sampling -o DIR
     compression.csv                 btf bench compression -o DIR
+    compression_scaling.csv         btf bench compression --scaling -o DIR
     brdf_compression.csv            btf bench compression -o DIR (unless --no-brdfs)
     compressibility.csv             btf bench compressibility -o DIR
     fits.csv                        btf bench fits -o DIR
@@ -46,6 +47,12 @@ KNOWN = {
         ["method", "material", "texels", "epsilon", "levels", "components", "bytes", "ratio_u8", "rel_rmse",
          "psnr_db", "mean_ssim", "rel_rmse_display", "noise_rel_rmse", "compression_s", "evals_per_s"],
     ),
+    "compression_scaling.csv": (
+        "Compression: time against texels and directions",
+        "btf bench compression --scaling",
+        ["study", "set", "side", "texels", "pairs", "seconds", "texel_directions_per_s_per_core", "level1_entries",
+         "level2_entries", "level3_entries", "bytes"],
+    ),
     "brdf_compression.csv": (
         "Compression: BRDFs as one-texel .btfz",
         "btf bench compression",
@@ -68,7 +75,7 @@ KNOWN = {
         ["sampler", "spp", "seconds", "relmse", "rel_rmse", "efficiency"],
     ),
 }
-ORDER = ["sampling.csv", "compression.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
+ORDER = ["sampling.csv", "compression.csv", "compression_scaling.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
 MAX_ROWS = 60
 
 

@@ -90,9 +90,10 @@ demo() {
   "$bin/btf" info "$out/fabric.btf"
   "$bin/btf" compare "$out/fabric.btf" "$out/fabric-btf"
   "$bin/btf" compress "$out/fabric.btf" "$out/fabric-dfmf.btfz" --epsilon 0.02
-  echo "   and the Bonn dome's own 151 x 151 directions, read without decoding"
+  echo "   and the Bonn dome's own 151 x 151 directions: read without decoding, compressed on its ten light rings"
   "$bin/btf-datagen" btf --pattern stones --size 16 --seed 1 --directions dome --layout dfmf -o "$out/stones-dome.btf"
   "$bin/btf" info "$out/stones-dome.btf"
+  "$bin/btf" compress "$out/stones-dome.btf" "$out/stones-dome.btfz" --epsilon 0.02
   echo "== VQ against per-view PCA at equal storage (rate-distortion chart), and how far the data can be compressed at all"
   "$bin/btf" bench compression --patterns fabric --size 16 --epsilons 0.02,0.1,0.4 --levels 3 --no-brdfs -o "$out/bench-compression"
   "$bin/btf" bench compressibility --patterns fabric --size 16 -o "$out/compressibility"
@@ -129,6 +130,9 @@ demo() {
     "$bin/btf-datagen" scene cornell -o "$out/cornell-compressed" --brdf "$out/plastic-red.binary" --btf "$out/fabric.btfz"
     "$bin/btf" render "$out/cornell-reference/scene.json" -o "$out/cornell-reference.exr" --spp 64
     "$bin/btf" render "$out/cornell-compressed/scene.json" -o "$out/cornell-compressed.exr" --spp 64
+    echo "   and the tall box in the dome BTF's .btfz, interpolated on triangulations of its 151 directions"
+    "$bin/btf-datagen" scene cornell -o "$out/cornell-dome" --brdf "$out/plastic-red.binary" --btf "$out/stones-dome.btfz"
+    "$bin/btf" render "$out/cornell-dome/scene.json" -o "$out/cornell-dome.exr" --spp 16
     echo "== the compressed BTF against its images, same scene and seeds (error map: cornell-compressed-error.png)"
     "$bin/btf" compare "$out/cornell-compressed.exr" "$out/cornell-reference.exr" -o "$out/cornell-compressed-error.png" --scale 0.2
     echo "== a second estimator: progressive photon mapping of the reference scene, against the path tracer"

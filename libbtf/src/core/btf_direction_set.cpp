@@ -134,17 +134,17 @@ const std::shared_ptr<const BtfDirectionSet>& BtfDirectionSet::uboDome1() {
   return set;
 }
 
+std::string BtfDirectionSet::describeLights() const {
+  if (shared_lights_) return std::to_string(lightCount(0)) + " lights";
+  int min_lights = max_lights_;
+  for (int v = 0; v < viewCount(); ++v) min_lights = std::min(min_lights, lightCount(v));
+  return (min_lights == max_lights_ ? std::to_string(max_lights_)
+                                    : std::to_string(min_lights) + " to " + std::to_string(max_lights_)) +
+         " lights per view, view-dependent";
+}
+
 std::string BtfDirectionSet::describe() const {
-  std::string text = std::to_string(viewCount()) + " views x ";
-  if (shared_lights_) {
-    text += std::to_string(lightCount(0)) + " lights";
-  } else {
-    int min_lights = max_lights_;
-    for (int v = 0; v < viewCount(); ++v) min_lights = std::min(min_lights, lightCount(v));
-    text += (min_lights == max_lights_ ? std::to_string(max_lights_)
-                                       : std::to_string(min_lights) + " to " + std::to_string(max_lights_)) +
-            " lights per view, view-dependent";
-  }
+  std::string text = std::to_string(viewCount()) + " views x " + describeLights();
   if (!name_.empty()) text += " (" + name_ + ")";
   return text;
 }

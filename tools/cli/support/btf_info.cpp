@@ -81,6 +81,8 @@ void runSingleBtfzInfo(const std::filesystem::path& file, const std::vector<Cont
                              {"format", "btfz (multi-level VQ)"},
                              {"texels", {btf.width(), btf.height()}},
                              {"views", btf.views().views()},
+                             {"directions", btf.directions().describe()},
+                             {"light_rings", btf.ringLayout().sizes()},
                              {"epsilon", btf.options().epsilon},
                              {"chroma_epsilon", btf.options().chroma_epsilon},
                              {"levels", btf.options().levels},
@@ -93,8 +95,9 @@ void runSingleBtfzInfo(const std::filesystem::path& file, const std::vector<Cont
     std::cout << facts.dump(2) << '\n';
     return;
   }
-  std::printf("%s: btfz (multi-level VQ), %d x %d texels x %s x 81 lights\n", file.c_str(), btf.width(), btf.height(),
-              btf.views().describe().c_str());
+  std::printf("%s: btfz (multi-level VQ), %d x %d texels x %s x %s\n", file.c_str(), btf.width(), btf.height(),
+              btf.views().describe().c_str(), btf.directions().describeLights().c_str());
+  if (!btf.directions().isUbo2003()) std::printf("light rings of level 1: %s\n", btf.ringLayout().describe().c_str());
   std::printf("epsilon %g, chroma_epsilon %g, %d levels; codebook entries per level:", btf.options().epsilon,
               btf.options().chroma_epsilon, btf.options().levels);
   for (std::size_t n : btf.stats().codebook_entries) std::printf(" %zu", n);
@@ -119,6 +122,7 @@ void runDatabaseInfo(const std::filesystem::path& file, const std::vector<Contai
     materials.push_back({{"name", m.name()},
                          {"texels", {m.width(), m.height()}},
                          {"views", m.views().views()},
+                         {"directions", m.directions().describe()},
                          {"codebook_entries", m.stats().codebook_entries},
                          {"own_stored_bytes", own}});
   }

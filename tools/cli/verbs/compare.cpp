@@ -72,9 +72,9 @@ void runBtfCompare(const CompareOptions& o) {
     std::cout << out.dump(2) << "\n";
     return;
   }
-  std::printf("test BTF %s against reference BTF %s: %d x %d texels, %s x 81 lights\n", o.test.c_str(),
+  std::printf("test BTF %s against reference BTF %s: %d x %d texels, %s x %s\n", o.test.c_str(),
               o.reference.c_str(), reference.source->width(), reference.source->height(),
-              reference.source->views().describe().c_str());
+              reference.source->views().describe().c_str(), reference.source->directions().describeLights().c_str());
   std::printf("rel_rmse         %s  (RMSE / RMS of B, linear values)\n", formatMeasure(e.rel_rmse).c_str());
   std::printf("psnr_db          %s  (peak = max of B)\n", formatMeasure(e.psnr_db).c_str());
   std::printf("rel_rmse_display %s  (sRGB-encoded, clipped to white %g)\n", formatMeasure(ssim.rel_rmse_display).c_str(),

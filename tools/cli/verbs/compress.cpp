@@ -87,11 +87,9 @@ void runCompress(const CompressArgs& args) {
     std::cout << report.dump(2) << '\n';
     return;
   }
-  const BtfDirectionSet& set = source.directions();
-  const std::string lights = set.sharedLights() ? std::to_string(set.lightCount(0)) + " lights"
-                                                : std::to_string(set.maxLightCount()) + " lights per view";
   std::printf("%s: %d x %d texels x %s x %s (%s)\n", args.in.front().c_str(), source.width(), source.height(),
-              source.views().describe().c_str(), lights.c_str(), inputs.front().description.c_str());
+              source.views().describe().c_str(), source.directions().describeLights().c_str(),
+              inputs.front().description.c_str());
   std::printf("wrote %s: %llu bytes, ratio_u8 %.1f, ratio_f32 %.1f, %.2f s\n", args.out.c_str(),
               static_cast<unsigned long long>(bytes), report["ratio_u8"].get<double>(), report["ratio_f32"].get<double>(),
               seconds);

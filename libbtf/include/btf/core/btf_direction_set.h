@@ -79,6 +79,8 @@ class BtfDirectionSet {
   // "81 views x 81 lights (UBO2003)", "151 views x 151 lights (Bonn dome 1)",
   // "40 views x 60 lights per view, view-dependent (scattered)".
   std::string describe() const;
+  // The lights alone: "151 lights", "60 lights per view, view-dependent".
+  std::string describeLights() const;
   // "theta 30, phi 60" of a view, for messages.
   std::string describeView(int view) const;
 
