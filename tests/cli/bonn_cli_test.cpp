@@ -103,15 +103,7 @@ TEST(BonnCli, DomeBtfRendersFromTheFileAndItsCompressedForm) {
   double sums[2] = {0, 0};
   int i = 0;
   for (const char* file : {"dome.btf", "dome.btfz"}) {
-    nlohmann::json scene = nlohmann::json::parse(R"({
-      "camera": {"position": [0, 1.2, 2.5], "look_at": [0, 0, 0], "fov_deg": 50, "resolution": [16, 16]},
-      "render": {"spp": 4, "max_depth": 4},
-      "shapes": [
-        {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0], "material": "floor"},
-        {"type": "quad", "corner": [-0.3, 1, -0.3], "edge_u": [0.6, 0, 0], "edge_v": [0, 0, 0.6], "emission": [4, 4, 4]}
-      ]
-    })");
-    scene["materials"]["floor"] = {{"type", "btf"}, {"file", (dir / file).string()}};
+    const nlohmann::json scene = floorScene({{"type", "btf"}, {"file", (dir / file).string()}});
     const fs::path path = dir / (std::string(file) + ".json"), image = dir / (std::string(file) + ".exr");
     std::ofstream(path) << scene.dump(2);
     const CommandResult r = runBtf({"render", path.string(), "-o", image.string()});

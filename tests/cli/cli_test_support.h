@@ -39,6 +39,20 @@ inline std::string readBytes(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// A small scene for `btf render`: a floor quad of `material` under a square light, 16 x 16 pixels.
+inline nlohmann::json floorScene(const nlohmann::json& material) {
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "camera": {"position": [0, 1.2, 2.5], "look_at": [0, 0, 0], "fov_deg": 50, "resolution": [16, 16]},
+    "render": {"spp": 4, "max_depth": 4},
+    "shapes": [
+      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0], "material": "floor"},
+      {"type": "quad", "corner": [-0.3, 1, -0.3], "edge_u": [0.6, 0, 0], "edge_v": [0, 0, 0.6], "emission": [4, 4, 4]}
+    ]
+  })");
+  scene["materials"]["floor"] = material;
+  return scene;
+}
+
 inline std::vector<std::filesystem::path> filesIn(const std::filesystem::path& folder) {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) files.push_back(entry.path());

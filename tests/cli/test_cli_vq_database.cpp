@@ -272,17 +272,8 @@ TEST(CliVqDatabase, SceneMaterialSelectsADatabaseMaterial) {
   const fs::path db = dir / "db.btfz";
   ASSERT_FALSE(compressOk({rgl("paper_white_rgb"), "merl-fit:sgd:alum-bronze"}, db, {"--no-verify"}).is_null());
   auto sceneWith = [&](const nlohmann::json& material, const std::string& name) {
-    nlohmann::json scene = nlohmann::json::parse(R"({
-      "camera": {"position": [0, 1.2, 2.5], "look_at": [0, 0, 0], "fov_deg": 50, "resolution": [16, 16]},
-      "render": {"spp": 4, "max_depth": 4},
-      "shapes": [
-        {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0], "material": "floor"},
-        {"type": "quad", "corner": [-0.3, 1, -0.3], "edge_u": [0.6, 0, 0], "edge_v": [0, 0, 0.6], "emission": [4, 4, 4]}
-      ]
-    })");
-    scene["materials"]["floor"] = material;
     const fs::path path = dir / name;
-    std::ofstream(path) << scene.dump(2);
+    std::ofstream(path) << floorScene(material).dump(2);
     return path;
   };
   const fs::path good = sceneWith({{"type", "btf"}, {"file", db.string()}, {"material", "alum-bronze-sgd"}}, "good.json");
