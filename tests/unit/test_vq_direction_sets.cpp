@@ -92,6 +92,10 @@ TEST(BtfRingLayout, ScatteredLightsAreCutIntoBandsOfElevation) {
       bottom = std::min(bottom, set->lights(0)[std::size_t(layout.light(r + 1, a))].theta_deg);
     EXPECT_LE(top, bottom);
   }
+  // A dense spiral shares a few elevations by chance (within the half degree that makes a ring):
+  // still bands, not rings of two or three lights.
+  EXPECT_EQ(BtfRingLayout::of(*synthetic::scatteredDirectionSet(3, 200), "test").sizes(),
+            (std::vector<int>{24, 24, 24, 24, 24, 24, 24, 24, 8}));
 }
 
 TEST(BtfRingLayout, RefusesWhatCannotBeOneLayout) {

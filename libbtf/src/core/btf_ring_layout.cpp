@@ -13,6 +13,9 @@ namespace {
 // Lights within this elevation of a ring's first light join it: measured sets put their rings
 // degrees apart, and a file's angles differ from the nominal ones in the last bits.
 constexpr float kRingThetaToleranceDeg = 0.5f;
+// Level 1's functions need a few lights each to repeat across texels; the measured sets' rings
+// hold 6 to 24 (the pole's one aside).
+constexpr int kMinMeanRingSize = 4;
 
 float azimuthKey(float phi_deg) {
   const float p = std::fmod(phi_deg, 360.0f);
@@ -44,10 +47,9 @@ std::vector<std::vector<int>> ringsOf(std::span<const BtfAngles> lights) {
       out.emplace_back(ring.begin() + std::ptrdiff_t(i),
                        ring.begin() + std::ptrdiff_t(std::min(ring.size(), i + BtfRingLayout::kBandSize)));
   }
-  // Scattered: more than half the lights alone in their ring. Bands of consecutive elevations.
-  std::size_t alone = 0;
-  for (const auto& ring : out) alone += ring.size() == 1 ? 1 : 0;
-  if (lights.size() > 1 && 2 * alone > lights.size()) {
+  // Scattered: rings of fewer than kMinMeanRingSize lights on average (elevations nearly all
+  // distinct, a few lights sharing one by chance). Bands of consecutive elevations instead.
+  if (lights.size() > 1 && out.size() * std::size_t(kMinMeanRingSize) > lights.size()) {
     out.clear();
     for (std::size_t i = 0; i < by_theta.size(); i += BtfRingLayout::kBandSize)
       out.emplace_back(by_theta.begin() + std::ptrdiff_t(i),

@@ -3,8 +3,8 @@
 //
 // A ring is a run of lights of (nearly) one elevation in azimuth order: on the UBO2003 set its six
 // rings of 15 degrees (btf_directions.h), on the Bonn dome its ten rings. A set whose lights are
-// scattered (most elevations held by one light) is cut into bands instead: its lights in elevation
-// order, at most kBandSize to a band. Level 1 needs no more than a fixed grouping of a view's
+// scattered (rings of fewer than 4 lights on average: elevations nearly all distinct) is cut into
+// bands instead: its lights in elevation order, at most kBandSize to a band. Level 1 needs no more than a fixed grouping of a view's
 // lights; a ring's azimuth order only makes its functions smooth, so that they repeat across texels.
 //
 // The layout is one grouping of light indices for every view: light l of any view sits at the same
