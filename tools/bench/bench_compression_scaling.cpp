@@ -7,6 +7,7 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -109,18 +110,21 @@ void benchCompressionScaling(const std::filesystem::path& folder, const Compress
       out << ',' << r.bytes << '\n';
     }
   });
+  // One line per set for the texel study, one line across the sets for the direction study.
+  auto seriesOf = [](const ScalingRow& r) {
+    return r.study == "texels" ? "more texels, " + r.set
+                               : "more directions (81, dome, scattered), " + std::to_string(r.side) + "^2 texels";
+  };
   std::ostringstream data;
   std::vector<std::string> series;
-  for (const ScalingRow& r : rows) {
-    const std::string s = r.study + ": " + r.set;
-    if (std::find(series.begin(), series.end(), s) == series.end()) series.push_back(s);
-  }
+  for (const ScalingRow& r : rows)
+    if (std::find(series.begin(), series.end(), seriesOf(r)) == series.end()) series.push_back(seriesOf(r));
   std::ostringstream plot;
   plot << "plot ";
   for (std::size_t i = 0; i < series.size(); ++i) {
     data << "$s" << i << " << EOD\n";
     for (const ScalingRow& r : rows)
-      if (r.study + ": " + r.set == series[i]) data << r.texels * r.pairs << ' ' << r.seconds << '\n';
+      if (seriesOf(r) == series[i]) data << r.texels * r.pairs << ' ' << r.seconds << '\n';
     data << "EOD\n";
     plot << (i ? ", " : "") << "$s" << i << " using 1:2 with linespoints pt 7 ps 1.2 title " << tools::gnuplotQuote(series[i]);
   }
