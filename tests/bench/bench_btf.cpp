@@ -2,7 +2,9 @@
 // from the in-memory data, beside a one-lobe Lafortune eval in the same run (the project's target is
 // >= 2x Lafortune's rate), and sampling by twofold binary search (target >= 5 M samples/s).
 // The BTF: the 16 x 16-texel GGX pattern of the unit tests (tests/unit/btf_test_data.h), compressed
-// with levels = 3, epsilon = 0.02. Directions, uv and random numbers are drawn before timing.
+// with levels = 3, epsilon = 0.02; and the same pattern on the Bonn dome's directions, whose BTF
+// material interpolates on triangulations instead of rings. Directions, uv and random numbers are
+// drawn before timing.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -84,6 +86,21 @@ void BM_BtfSampleDirectionVq(benchmark::State& state) {
 void BM_BtfSampleData(benchmark::State& state) { runBtfSample(state, btfFixture().data_nearest); }
 void BM_BtfSampleLafortune1(benchmark::State& state) { runBtfSample(state, btfFixture().lafortune); }
 
+// The same GGX pattern measured on the Bonn dome's 151 x 151 directions: evaluation and sampling
+// on triangulations of the directions (btf_material.h) beside the 81-direction set's rings above
+// (BM_BtfEvalVqNearest, BM_BtfSampleVq: same texels, queries and options).
+struct DomeBenchFixture {
+  std::shared_ptr<const btf::VqBtf> vq = std::make_shared<const btf::VqBtf>(
+      btf::compressVq(btf::test::makeGgxBtf(16, 16, false, btf::BtfDirectionSet::uboDome1()), {}));
+  btf::BtfMaterial vq_nearest{vq, btf::BtfTexelFilter::Nearest};
+};
+const DomeBenchFixture& domeFixture() {
+  static const DomeBenchFixture f;
+  return f;
+}
+void BM_BtfEvalDomeVqNearest(benchmark::State& state) { runBtfEval(state, domeFixture().vq_nearest); }
+void BM_BtfSampleDomeVq(benchmark::State& state) { runBtfSample(state, domeFixture().vq_nearest); }
+
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
 // no interpolation, the random access that decompression-based renderers make. Its rate depends on
 // whether the tables it walks stay in cache, so it runs on the GGX pattern at 4 x 4 to 64 x 64
@@ -147,5 +164,7 @@ BENCHMARK(BM_BtfSampleVq);
 BENCHMARK(BM_BtfSampleDirectionVq);
 BENCHMARK(BM_BtfSampleData);
 BENCHMARK(BM_BtfSampleLafortune1);
+BENCHMARK(BM_BtfEvalDomeVqNearest);
+BENCHMARK(BM_BtfSampleDomeVq);
 
 }  // namespace

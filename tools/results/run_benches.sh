@@ -44,7 +44,7 @@ META
 
 run "$bin/btf" bench sampling --quick -o "$out/sampling"
 run "$bin/btf" bench compression --quick -o "$out/compression"
-run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns '' --no-brdfs -o "$out/compression-scaling"
+run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns= --no-brdfs -o "$out/compression-scaling"
 run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"
 run "$bin/btf" bench render --quick -o "$out/render"
 
