@@ -28,9 +28,12 @@ mkdir -p "$out"
 cd "$out"
 : >commands.txt
 
-# Runs a command at the lowest priority and records it (with build/bin/ for the binaries' folder).
+# Runs a command at the lowest priority and records it (with build/bin/ for the binaries' folder),
+# each argument shell-quoted where it needs it (an empty one as ''), so that it runs as recorded.
 run() {
-  echo "${*//$bin\//build/bin/}" | sed "s|$out/||g" >>commands.txt
+  local recorded
+  recorded=$(printf '%q ' "$@")
+  echo "${recorded% }" | sed -e "s|$bin/|build/bin/|g" -e "s|$out/||g" >>commands.txt
   nice -n 19 "$@"
 }
 
@@ -44,7 +47,7 @@ META
 
 run "$bin/btf" bench sampling --quick -o "$out/sampling"
 run "$bin/btf" bench compression --quick -o "$out/compression"
-run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns= --no-brdfs -o "$out/compression-scaling"
+run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns '' --no-brdfs -o "$out/compression-scaling"
 run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"
 run "$bin/btf" bench render --quick -o "$out/render"
 
