@@ -29,11 +29,14 @@ cd "$out"
 : >commands.txt
 
 # Runs a command at the lowest priority and records it (with build/bin/ for the binaries' folder),
-# each argument shell-quoted where it needs it (an empty one as ''), so that it runs as recorded.
+# an empty or spaced argument in quotes, so that it runs as recorded.
 run() {
-  local recorded
-  recorded=$(printf '%q ' "$@")
-  echo "${recorded% }" | sed -e "s|$bin/|build/bin/|g" -e "s|$out/||g" >>commands.txt
+  local recorded="" arg
+  for arg in "$@"; do
+    [[ -n $arg && ! $arg =~ [[:space:]] ]] || arg="'$arg'"
+    recorded+="${recorded:+ }$arg"
+  done
+  echo "$recorded" | sed -e "s|$bin/|build/bin/|g" -e "s|$out/||g" >>commands.txt
   nice -n 19 "$@"
 }
 
