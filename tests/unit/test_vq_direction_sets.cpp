@@ -191,7 +191,7 @@ TEST(VqDirectionSets, PartialViewsOfTheDome) {
   EXPECT_LE(test::luminanceRelRmse(part, back), test::vqLuminanceBound(0.02f, 3));
 }
 
-TEST(VqDirectionSets, DatabasesShareCodebooksWithinOneLayout) {
+TEST(VqDirectionSets, DatabasesShareCodebooksPerRingLayout) {
   const BtfData a = test::makeGgxBtf(4, 4, false, BtfDirectionSet::uboDome1());
   const BtfData b = test::makeGgxBtf(4, 4, true, BtfDirectionSet::uboDome1());
   const BtfSource* dome[] = {&a, &b};
@@ -204,14 +204,43 @@ TEST(VqDirectionSets, DatabasesShareCodebooksWithinOneLayout) {
   test::expectSameDecode(database.material("a"), back.material("a"));
   EXPECT_LE(test::luminanceRelRmse(b, back.material("b")), test::vqLuminanceBound(0.02f, 3));
 
-  // Sets with other rings cannot share codebooks: refused by name, in compression and in merges.
+  // Sets with other rings share no codebooks but may share a database: one group of shared
+  // codebooks per ring layout, in compression, in the file and in merges (lossless).
   const BtfData ubo = test::makeGgxBtf(4, 4, false);
-  const BtfSource* mixed[] = {&a, &ubo};
-  EXPECT_THAT(errorOf([&] { compressVqDatabase(mixed, {"dome", "ubo"}); }),
-              HasSubstr("shares its codebooks per light ring"));
+  const BtfSource* mixed[] = {&a, &ubo, &b};
+  VqDatabase mixed_db = compressVqDatabase(mixed, {"dome", "ubo", "dome2"});
+  mixed_db.write(dir / "mixed.btfz");
+  const VqDatabase mixed_back = VqDatabase::read(dir / "mixed.btfz");
+  ASSERT_EQ(mixed_back.names(), (std::vector<std::string>{"dome", "ubo", "dome2"}));
+  EXPECT_TRUE(mixed_back.material("ubo").directions().isUbo2003());
+  EXPECT_EQ(mixed_back.material("dome2").ringLayout().ringCount(), 10);
+  for (const char* name : {"dome", "ubo", "dome2"}) test::expectSameDecode(mixed_db.material(name), mixed_back.material(name));
+  // A material pointed at a group the file does not have, or a group left without material: an error.
+  for (const int group : {7, 0}) {
+    const auto edited = test::rewriteContainer(dir / "mixed.btfz", dir / "bad-group.btfz", [&](std::vector<ContainerSection>& sections) {
+      for (auto& sec : sections) {
+        if (sec.name != "header") continue;
+        auto header = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(sec.data.data()), sec.data.size()));
+        header["materials"][1]["group"] = group;
+        const std::string text = header.dump();
+        sec.data.assign(reinterpret_cast<const std::byte*>(text.data()), reinterpret_cast<const std::byte*>(text.data()) + text.size());
+      }
+    });
+    EXPECT_THAT(errorOf([&] { VqDatabase::read(edited); }),
+                HasSubstr(group == 7 ? "has group 7, not one of its 2 groups" : "codebook group 1 has no material"));
+  }
+  // Each material alone in its group is compressed as in a database of its layout alone.
+  const BtfSource* ubo_only[] = {&ubo};
+  test::expectSameDecode(compressVqDatabase(ubo_only, {"ubo"}).material("ubo"), mixed_back.material("ubo"));
+  EXPECT_LE(test::luminanceRelRmse(ubo, mixed_back.material("ubo")), test::vqLuminanceBound(0.02f, 3));
+  // A merge of databases on different sets keeps every material's decode.
   const VqDatabase ubo_alone(std::vector<VqBtf>{compressVq(ubo, {})});
   const VqDatabase parts[] = {back, ubo_alone};
-  EXPECT_THAT(errorOf([&] { mergeVqDatabases(parts); }), HasSubstr("their direction sets differ"));
+  const VqDatabase merged = mergeVqDatabases(parts);
+  test::expectSameDecode(merged.material("a"), back.material("a"));
+  test::expectSameDecode(merged.material(ubo_alone.names().front()), ubo_alone.materials().front());
+  VqDatabase(merged).write(dir / "merged.btfz");
+  test::expectSameDecode(VqDatabase::read(dir / "merged.btfz").material("b"), back.material("b"));
 
   // Lights moved aside keep the nominal rings: such a set shares a database with the 81 set, and
   // each material keeps its own directions.

@@ -884,36 +884,44 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
     throw Error("a VQ database needs one name per material (" + std::to_string(sources.size()) + " materials, " +
                 std::to_string(names.size()) + " names)");
   const auto start = std::chrono::steady_clock::now();
-  VqBtf::Impl books;
-  books.options = options;
   std::vector<std::shared_ptr<VqBtf::Impl>> impls;
+  for (std::size_t i = 0; i < sources.size(); ++i) impls.push_back(materialImpl(*sources[i], options, names[i]));
+  // The codebooks are per ring: one group of shared codebooks per ring layout, materials of a
+  // layout compressed in their order into it (sets that differ only where lights were moved aside
+  // share a layout). Groups in order of their first material.
+  std::vector<std::size_t> group_of(sources.size());
+  std::vector<std::size_t> group_first;
   for (std::size_t i = 0; i < sources.size(); ++i) {
-    impls.push_back(materialImpl(*sources[i], options, names[i]));
-    // The shared codebooks are per ring: one layout for all (sets that differ only in where their
-    // lights were moved aside share one).
-    if (impls[i]->layout != impls.front()->layout)
-      throw Error("a VQ database shares its codebooks per light ring: " + sources[i]->name() + " (" +
-                  sources[i]->directions().describe() + ", " + impls[i]->layout.describe() + ") and " +
-                  sources.front()->name() + " (" + sources.front()->directions().describe() + ", " +
-                  impls.front()->layout.describe() + ") have different rings");
+    std::size_t g = 0;
+    while (g < group_first.size() && impls[group_first[g]]->layout != impls[i]->layout) ++g;
+    if (g == group_first.size()) group_first.push_back(i);
+    group_of[i] = g;
   }
-  books.setLayout(impls.front()->layout);
-  inArena(options.threads, [&] {
-    Compressor compressor(options, books, vqRingBasesFor(*sources.front(), options));
-    for (std::size_t i = 0; i < sources.size(); ++i) compressor.run(*sources[i], *impls[i]);
-  });
-  std::vector<VqBtf::Impl*> pointers;
-  for (auto& impl : impls) pointers.push_back(impl.get());
-  pruneVqCodebooks(books, pointers);
+  for (std::size_t g = 0; g < group_first.size(); ++g) {
+    VqBtf::Impl books;
+    books.options = options;
+    books.setLayout(impls[group_first[g]]->layout);
+    inArena(options.threads, [&] {
+      Compressor compressor(options, books, vqRingBasesFor(*sources[group_first[g]], options));
+      for (std::size_t i = 0; i < sources.size(); ++i)
+        if (group_of[i] == g) compressor.run(*sources[i], *impls[i]);
+    });
+    std::vector<VqBtf::Impl*> pointers;
+    for (std::size_t i = 0; i < sources.size(); ++i)
+      if (group_of[i] == g) pointers.push_back(impls[i].get());
+    pruneVqCodebooks(books, pointers);
+    for (VqBtf::Impl* impl : pointers) {
+      impl->l1 = books.l1;
+      impl->l1_basis = books.l1_basis;
+      impl->l1_coef = books.l1_coef;
+      impl->chroma = books.chroma;
+      impl->l2_index = books.l2_index;
+      impl->l2_scale = books.l2_scale;
+      impl->l2_chroma = books.l2_chroma;
+    }
+  }
   std::vector<VqBtf> materials;
   for (auto& impl : impls) {
-    impl->l1 = books.l1;
-    impl->l1_basis = books.l1_basis;
-    impl->l1_coef = books.l1_coef;
-    impl->chroma = books.chroma;
-    impl->l2_index = books.l2_index;
-    impl->l2_scale = books.l2_scale;
-    impl->l2_chroma = books.l2_chroma;
     impl->prepare("compressVqDatabase");
     impl->stats.codebook_entries = vqCodebookEntries(*impl);
     materials.emplace_back(impl);

@@ -2,13 +2,16 @@
 // lossless merge. compressVqDatabase is in vq_compress.cpp, beside the compressor it drives.
 //
 // Layout: the header (format "libbtf-vq-database") lists the materials in order (name, texels,
-// views when some are missing, level-3 entries); the shared sections are those of a
-// single-material file, the per-material ones carry the prefix "material<i>/" (vq_sections.h).
+// direction set and rings, views when some are missing, level-3 entries, codebook group); the
+// shared sections are those of a single-material file, once per ring layout (the first layout's
+// unprefixed, layout g's with the prefix "group<g>/"); the per-material ones carry the prefix
+// "material<i>/" (vq_sections.h).
 #include "btf/compress/vq_database.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <set>
 #include <unordered_map>
 
@@ -51,26 +54,56 @@ void copyShared(const VqBtf::Impl& from, VqBtf::Impl& to) {
   to.l2_chroma = from.l2_chroma;
 }
 
+std::string groupPrefix(std::size_t g) { return g == 0 ? std::string() : "group" + std::to_string(g) + "/"; }
+
+// The ring-layout groups of a database's materials (vq_database.h): per material its group, groups
+// numbered in order of first appearance; `first[g]` is group g's first material.
+struct LayoutGroups {
+  std::vector<std::size_t> of, first;
+};
+template <class Materials, class LayoutOf>
+LayoutGroups layoutGroups(const Materials& materials, LayoutOf layoutOf) {
+  LayoutGroups groups;
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    std::size_t g = 0;
+    while (g < groups.first.size() && layoutOf(materials[groups.first[g]]) != layoutOf(materials[i])) ++g;
+    if (g == groups.first.size()) groups.first.push_back(i);
+    groups.of.push_back(g);
+  }
+  return groups;
+}
+LayoutGroups layoutGroupsOf(const std::vector<VqBtf>& materials) {
+  return layoutGroups(materials, [](const VqBtf& m) -> const BtfRingLayout& { return m.impl().layout; });
+}
+
 std::vector<ContainerSection> databaseSections(const std::vector<VqBtf>& materials) {
   const VqBtf::Impl& first = materials.front().impl();
+  const LayoutGroups groups = layoutGroupsOf(materials);
   nlohmann::json header = vqOptionsHeader(first);
   header["format"] = kVqDatabaseFormat;
-  int version = 1;
+  int version = groups.first.size() > 1 ? 5 : 1;
   for (const VqBtf& material : materials) version = std::max(version, vqSectionsVersion(material.impl()));
   header["format_version"] = version;
   header["codebook_entries"] = sharedEntriesOf(first);
+  if (groups.first.size() > 1) {
+    nlohmann::json more = nlohmann::json::array();
+    for (std::size_t g = 1; g < groups.first.size(); ++g) more.push_back(sharedEntriesOf(materials[groups.first[g]].impl()));
+    header["group_codebook_entries"] = std::move(more);
+  }
   nlohmann::json list = nlohmann::json::array();
-  for (const VqBtf& material : materials) {
-    const VqBtf::Impl& m = material.impl();
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    const VqBtf::Impl& m = materials[i].impl();
     nlohmann::json entry{{"name", m.name}, {"width", m.width}, {"height", m.height}};
     addVqDirectionsHeader(m, entry);
+    if (groups.of[i] > 0) entry["group"] = groups.of[i];
     if (m.options.levels == 3) entry["level3_entries"] = m.l3Count();
     list.push_back(std::move(entry));
   }
   header["materials"] = std::move(list);
   std::vector<ContainerSection> sections;
   addVqHeaderSection(header, sections);
-  addVqSharedSections(first, sections);
+  for (std::size_t g = 0; g < groups.first.size(); ++g)
+    addVqSharedSections(materials[groups.first[g]].impl(), sections, groupPrefix(g));
   for (std::size_t i = 0; i < materials.size(); ++i) addVqMaterialSections(materials[i].impl(), materialPrefix(i), sections);
   return sections;
 }
@@ -110,18 +143,18 @@ VqDatabase::VqDatabase(std::vector<VqBtf> materials) : materials_(std::move(mate
   if (materials_.empty()) throw Error("a VQ database needs at least one material");
   std::set<std::string> seen;
   const VqBtf::Impl& first = materials_.front().impl();
-  for (const VqBtf& material : materials_) {
-    const VqBtf::Impl& m = material.impl();
+  const LayoutGroups groups = layoutGroupsOf(materials_);
+  for (std::size_t i = 0; i < materials_.size(); ++i) {
+    const VqBtf::Impl& m = materials_[i].impl();
+    // The codebooks are shared within a ring layout: with the group's first material.
+    const VqBtf::Impl& group_first = materials_[groups.first[groups.of[i]]].impl();
     if (m.name.empty()) throw Error("a VQ database's materials need names");
     if (!seen.insert(m.name).second) throw Error("a VQ database holds two materials named '" + m.name + "'");
     if (!sameOptions(m.options, first.options))
       throw Error("material '" + m.name + "' was compressed with " + describeOptions(m.options) + ", material '" +
                   first.name + "' with " + describeOptions(first.options) + ": a database has one set of options");
-    if (m.layout != first.layout)
-      throw Error("material '" + m.name + "' has other light rings (" + m.layout.describe() + ") than '" + first.name +
-                  "' (" + first.layout.describe() + "): a database shares its codebooks per ring");
-    if (&m != &first && !sameShared(m, first))
-      throw Error("material '" + m.name + "' does not share the codebooks of '" + first.name +
+    if (&m != &group_first && !sameShared(m, group_first))
+      throw Error("material '" + m.name + "' does not share the codebooks of '" + group_first.name +
                   "' (materials compressed apart are joined by mergeVqDatabases)");
   }
 }
@@ -141,7 +174,15 @@ const VqBtf& VqDatabase::material(std::string_view name) const {
   throw Error("no material named '" + std::string(name) + "' (the database holds " + all + ")");
 }
 
-std::vector<std::size_t> VqDatabase::sharedEntries() const { return sharedEntriesOf(materials_.front().impl()); }
+std::vector<std::size_t> VqDatabase::sharedEntries() const {
+  const LayoutGroups groups = layoutGroupsOf(materials_);
+  std::vector<std::size_t> sum = sharedEntriesOf(materials_.front().impl());
+  for (std::size_t g = 1; g < groups.first.size(); ++g) {
+    const std::vector<std::size_t> more = sharedEntriesOf(materials_[groups.first[g]].impl());
+    for (std::size_t l = 0; l < sum.size(); ++l) sum[l] += more[l];
+  }
+  return sum;
+}
 
 double VqDatabase::rawBytesU8() const {
   double raw = 0;
@@ -175,8 +216,6 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
                                                                  const nlohmann::json& header,
                                                                  const std::filesystem::path& path,
                                                                  std::string_view only) {
-  VqBtf::Impl shared;
-  std::vector<std::size_t> shared_entries;
   nlohmann::json list;
   try {
     const int version = header.at("format_version").get<int>();
@@ -191,24 +230,52 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   // must not make the reader allocate for it.
   if (!list.is_array() || list.empty() || list.size() > sections.size())
     throw FileError(path, "VQ database header lists no materials, or more than its sections can hold");
-  shared_entries = vqHeaderCounts(header, "codebook_entries", path);
-  readVqOptions(header, path, shared.options);
-  // The shared codebooks are per ring: the first material's layout is every material's (checked below).
-  try {
-    readVqDirectionsHeader(list.at(0), path, shared);
-  } catch (const nlohmann::json::exception& e) {
-    throw FileError(path, "VQ database header's material 0 is invalid: " + std::string(e.what()));
-  } catch (const FileError&) {
-    throw;
-  } catch (const Error& e) {
-    throw FileError(path, "VQ database header's material 0 has invalid directions or views: " + std::string(e.what()));
+  // One group of shared codebooks per ring layout (vq_database.h): group 0's entry counts in
+  // "codebook_entries", the others' in "group_codebook_entries".
+  std::vector<std::vector<std::size_t>> group_entries{vqHeaderCounts(header, "codebook_entries", path)};
+  if (const auto more = header.find("group_codebook_entries"); more != header.end()) {
+    if (!more->is_array() || more->size() + 1 > list.size())
+      throw FileError(path, "VQ database header's group_codebook_entries is not a list of count lists, one per group");
+    for (const auto& counts : *more) {
+      const nlohmann::json holder{{"entries", counts}};
+      group_entries.push_back(vqHeaderCounts(holder, "entries", path));
+    }
   }
-  readVqSharedSections(sections, path, shared);
+  std::vector<std::size_t> group_of(list.size(), 0);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const nlohmann::json& entry = list.at(i);
+    if (!entry.is_object() || !entry.contains("group")) continue;
+    const nlohmann::json& g = entry.at("group");
+    if (!g.is_number_unsigned() || g.get<std::size_t>() >= group_entries.size())
+      throw FileError(path, "VQ database header's material " + std::to_string(i) + " has group " + g.dump() + ", not one of its " +
+                                std::to_string(group_entries.size()) + " groups");
+    group_of[i] = g.get<std::size_t>();
+  }
+  // Each group's codebooks, with the ring layout of its first material (every member's, checked below).
+  std::vector<VqBtf::Impl> shared(group_entries.size());
+  for (std::size_t g = 0; g < shared.size(); ++g) {
+    const std::size_t first = std::size_t(std::find(group_of.begin(), group_of.end(), g) - group_of.begin());
+    if (first == list.size()) throw FileError(path, "VQ database header's codebook group " + std::to_string(g) + " has no material");
+    readVqOptions(header, path, shared[g].options);
+    try {
+      readVqDirectionsHeader(list.at(first), path, shared[g]);
+    } catch (const nlohmann::json::exception& e) {
+      throw FileError(path, "VQ database header's material " + std::to_string(first) + " is invalid: " + std::string(e.what()));
+    } catch (const FileError&) {
+      throw;
+    } catch (const Error& e) {
+      throw FileError(path, "VQ database header's material " + std::to_string(first) +
+                                " has invalid directions or views: " + std::string(e.what()));
+    }
+    readVqSharedSections(sections, path, shared[g], groupPrefix(g));
+  }
+  bool chroma_checked = false;
   std::vector<std::shared_ptr<VqBtf::Impl>> impls, skipped;
   std::set<std::string> names;
   for (std::size_t i = 0; i < list.size(); ++i) {
     auto m = std::make_shared<VqBtf::Impl>();
-    m->options = shared.options;
+    const VqBtf::Impl& books = shared[group_of[i]];
+    m->options = books.options;
     std::size_t l3_entries = 0;
     try {
       const nlohmann::json& entry = list.at(i);
@@ -217,10 +284,10 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
       m->width = vqHeaderInt(entry, "width", path);
       m->height = vqHeaderInt(entry, "height", path);
       readVqDirectionsHeader(entry, path, *m);
-      if (m->layout != shared.layout)
+      if (m->layout != books.layout)
         throw FileError(path, "VQ database material " + std::to_string(i) + " has other light rings (" + m->layout.describe() +
-                                  ") than material 0 (" + shared.layout.describe() + ")");
-      copyShared(shared, *m);
+                                  ") than its codebook group " + std::to_string(group_of[i]) + " (" + books.layout.describe() + ")");
+      copyShared(books, *m);
       if (m->options.levels == 3) {
         const nlohmann::json& n = entry.at("level3_entries");
         if (!n.is_number_unsigned())
@@ -245,12 +312,15 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
     }
     readVqMaterialSections(sections, materialPrefix(i), path, *m);
     prepareReadVq(*m, path);
-    std::vector<std::size_t> expected = shared_entries;
+    std::vector<std::size_t> expected = group_entries[group_of[i]];
     if (m->options.levels == 3) expected.push_back(l3_entries);
     if (vqCodebookEntries(*m) != expected)
       throw FileError(path, "VQ database header's codebook entry counts disagree with the sections of material '" +
                                 m->name + "' (an edited header?)");
-    if (impls.empty()) checkVqChromaEntries(header, *m, path);
+    if (group_of[i] == 0 && !chroma_checked) {  // the header's chroma counts are group 0's
+      checkVqChromaEntries(header, *m, path);
+      chroma_checked = true;
+    }
     impls.push_back(std::move(m));
   }
   double raw = 0;
@@ -262,24 +332,13 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqDatabaseSections(const std::vect
   return impls;
 }
 
-VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const std::string> labels) {
-  if (parts.empty()) throw Error("merging VQ databases needs at least one");
-  auto label = [&](std::size_t p) { return p < labels.size() ? labels[p] : "database " + std::to_string(p + 1); };
-  const VqOptions& options = parts.front().options();
-  std::set<std::string> names;
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    if (!sameOptions(parts[p].options(), options))
-      throw Error("cannot merge: " + label(p) + " was compressed with " + describeOptions(parts[p].options()) + "; " +
-                  label(0) + " with " + describeOptions(options) + " (recompress with the same options)");
-    for (const std::string& name : parts[p].names())
-      if (!names.insert(name).second) throw Error("cannot merge: two materials are named '" + name + "'");
-  }
-  // The codebooks are per ring: the parts must share their rings.
-  const BtfRingLayout& layout = parts.front().materials().front().impl().layout;
-  for (std::size_t p = 0; p < parts.size(); ++p)
-    if (parts[p].materials().front().impl().layout != layout)
-      throw Error("cannot merge: " + label(p) + " codes its lights in " + parts[p].materials().front().impl().layout.describe() +
-                  ", " + label(0) + " in " + layout.describe() + " (their direction sets differ)");
+namespace {
+
+// Merges materials of one ring layout: `subparts` are groups of materials that share codebooks (a
+// part's materials of this layout), in order. Each merged material, by its source, in `merged`.
+void mergeLayoutGroup(const std::vector<std::vector<const VqBtf*>>& subparts, const VqOptions& options,
+                      std::map<const VqBtf*, std::shared_ptr<VqBtf::Impl>>& merged) {
+  const BtfRingLayout& layout = subparts.front().front()->impl().layout;
   // The merged shared codebooks: every part's entries, each distinct entry once, in part order (so
   // the first part's entries keep their indices unless it repeats one).
   VqBtf::Impl books;
@@ -297,18 +356,15 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
   // their own): then each merged entry keeps the coefficients it came with. Elsewhere the merged
   // ring stores its values one by one, which decodes to the same codes.
   for (int r = 0; r < int(R); ++r) {
-    const VqRingBasis& basis = parts.front().materials().front().impl().l1_basis[std::size_t(r)];
+    const VqRingBasis& basis = subparts.front().front()->impl().l1_basis[std::size_t(r)];
     bool common = !basis.empty();
-    for (const VqDatabase& part : parts) {
-      common = common && part.materials().front().impl().l1_basis[std::size_t(r)] == basis;
-    }
+    for (const auto& subpart : subparts) common = common && subpart.front()->impl().l1_basis[std::size_t(r)] == basis;
     if (common) books.l1_basis[std::size_t(r)] = basis;
   }
   std::vector<std::uint32_t> l2_key_book;  // (index, scale, chroma) per ring, as one entry
   EntryInterner<std::uint32_t> l2(l2_key_book, 3 * R);
-  std::vector<std::shared_ptr<VqBtf::Impl>> impls;
-  for (const VqDatabase& part : parts) {
-    const VqBtf::Impl& src = part.materials().front().impl();
+  for (const auto& subpart : subparts) {
+    const VqBtf::Impl& src = subpart.front()->impl();
     std::vector<std::vector<std::uint32_t>> l1_map(R), chroma_map(R);
     for (int r = 0; r < int(R); ++r) {
       const std::size_t n = std::size_t(books.ringSize(r));
@@ -334,8 +390,8 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
       }
       l2_map.push_back(l2.intern(key.data()));
     }
-    for (const VqBtf& material : part.materials()) {
-      auto m = std::make_shared<VqBtf::Impl>(material.impl());
+    for (const VqBtf* material : subpart) {
+      auto m = std::make_shared<VqBtf::Impl>(material->impl());
       for (auto& e : m->l3_index) e = l2_map[e];
       if (options.levels == 1) {
         for (std::size_t i = 0; i < m->top_index.size(); ++i) {
@@ -346,7 +402,7 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
       } else if (options.levels == 2) {
         for (auto& e : m->top_index) e = l2_map[e];
       }
-      impls.push_back(std::move(m));
+      merged.emplace(material, std::move(m));
     }
   }
   for (std::size_t e = 0; e < l2_key_book.size() / (3 * R); ++e) {
@@ -357,9 +413,45 @@ VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const s
       books.l2_chroma.push_back(key[2 * R + r]);
     }
   }
+  for (auto& [source, m] : merged)
+    if (m->layout == layout) copyShared(books, *m);
+}
+
+}  // namespace
+
+VqDatabase mergeVqDatabases(std::span<const VqDatabase> parts, std::span<const std::string> labels) {
+  if (parts.empty()) throw Error("merging VQ databases needs at least one");
+  auto label = [&](std::size_t p) { return p < labels.size() ? labels[p] : "database " + std::to_string(p + 1); };
+  const VqOptions& options = parts.front().options();
+  std::set<std::string> names;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (!sameOptions(parts[p].options(), options))
+      throw Error("cannot merge: " + label(p) + " was compressed with " + describeOptions(parts[p].options()) + "; " +
+                  label(0) + " with " + describeOptions(options) + " (recompress with the same options)");
+    for (const std::string& name : parts[p].names())
+      if (!names.insert(name).second) throw Error("cannot merge: two materials are named '" + name + "'");
+  }
+  // The codebooks are per ring layout: each layout's materials are merged on their own, the parts'
+  // materials of it in part order (vq_database.h).
+  std::vector<const VqBtf*> all;
+  for (const VqDatabase& part : parts)
+    for (const VqBtf& material : part.materials()) all.push_back(&material);
+  const LayoutGroups groups = layoutGroups(all, [](const VqBtf* m) -> const BtfRingLayout& { return m->impl().layout; });
+  std::map<const VqBtf*, std::shared_ptr<VqBtf::Impl>> merged_of;
+  for (std::size_t g = 0; g < groups.first.size(); ++g) {
+    std::vector<std::vector<const VqBtf*>> subparts;
+    std::size_t k = 0;
+    for (const VqDatabase& part : parts) {
+      std::vector<const VqBtf*> subpart;
+      for (std::size_t j = 0; j < part.size(); ++j, ++k)
+        if (groups.of[k] == g) subpart.push_back(all[k]);
+      if (!subpart.empty()) subparts.push_back(std::move(subpart));
+    }
+    mergeLayoutGroup(subparts, options, merged_of);
+  }
   std::vector<VqBtf> materials;
-  for (auto& m : impls) {
-    copyShared(books, *m);
+  for (const VqBtf* source : all) {
+    const std::shared_ptr<VqBtf::Impl>& m = merged_of.at(source);
     m->prepare("mergeVqDatabases");
     m->stats.codebook_entries = vqCodebookEntries(*m);
     materials.emplace_back(m);

@@ -68,7 +68,7 @@ std::vector<ContainerSection> buildSections(const VqBtf::Impl& m) {
   header["codebook_entries"] = m.stats.codebook_entries;
   std::vector<ContainerSection> sections;
   addVqHeaderSection(header, sections);
-  addVqSharedSections(m, sections);
+  addVqSharedSections(m, sections, "");
   addVqMaterialSections(m, "", sections);
   return sections;
 }
@@ -112,9 +112,9 @@ int vqSectionsVersion(const VqBtf::Impl& m) {
   return 1;
 }
 
-void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections) {
+void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections, const std::string& prefix) {
   for (int r = 0; r < int(m.ringCount()); ++r) {
-    const std::string ring = "level1/ring" + std::to_string(r);
+    const std::string ring = prefix + "level1/ring" + std::to_string(r);
     const VqRingBasis& basis = m.l1_basis[std::size_t(r)];
     if (basis.empty()) {
       addVqSection(sections, SectionType::Codebook, ring, packPlanar(m.l1[std::size_t(r)]));
@@ -129,7 +129,7 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
     ByteWriter bytes;
     bytes.put(basis.step);
     bytes.putAll(basis.v);
-    addVqSection(sections, SectionType::Codebook, "level1/basis" + std::to_string(r), std::move(bytes.bytes()));
+    addVqSection(sections, SectionType::Codebook, prefix + "level1/basis" + std::to_string(r), std::move(bytes.bytes()));
     const std::vector<std::int32_t>& c = m.l1_coef[std::size_t(r)];
     const std::size_t n = std::size_t(basis.n), entries = c.size() / n;
     std::vector<std::uint32_t> zigzag(c.size());
@@ -141,11 +141,11 @@ void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& se
     addVqSection(sections, SectionType::Codebook, ring, packPlanar(zigzag));
   }
   for (int r = 0; r < int(m.ringCount()); ++r)
-    addVqSection(sections, SectionType::Codebook, "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
+    addVqSection(sections, SectionType::Codebook, prefix + "chroma/ring" + std::to_string(r), packPlanar(m.chroma[std::size_t(r)]));
   if (m.options.levels >= 2) {
-    addVqSection(sections, SectionType::Codebook, "level2/index", packPlanar(m.l2_index));
-    addVqSection(sections, SectionType::Codebook, "level2/scale", packPlanar(m.l2_scale));
-    addVqSection(sections, SectionType::Codebook, "level2/chroma", packPlanar(m.l2_chroma));
+    addVqSection(sections, SectionType::Codebook, prefix + "level2/index", packPlanar(m.l2_index));
+    addVqSection(sections, SectionType::Codebook, prefix + "level2/scale", packPlanar(m.l2_scale));
+    addVqSection(sections, SectionType::Codebook, prefix + "level2/chroma", packPlanar(m.l2_chroma));
   }
 }
 
@@ -352,9 +352,10 @@ void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, co
     throw FileError(path, "VQ header's chroma_entries disagree with its chromaticity codebook sections (an edited header?)");
 }
 
-void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m) {
+void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m,
+                          const std::string& prefix) {
   for (int r = 0; r < int(m.ringCount()); ++r) {
-    const std::string ring = "level1/ring" + std::to_string(r), basis_name = "level1/basis" + std::to_string(r);
+    const std::string ring = prefix + "level1/ring" + std::to_string(r), basis_name = prefix + "level1/basis" + std::to_string(r);
     const auto basis_section =
         std::find_if(sections.begin(), sections.end(), [&](const ContainerSection& s) { return s.name == basis_name; });
     if (basis_section == sections.end()) {
@@ -387,11 +388,11 @@ void readVqSharedSections(const std::vector<ContainerSection>& sections, const s
     for (std::size_t e = 0; e < entries; ++e) vqBasisCodes(basis, &c[e * n], &m.l1[std::size_t(r)][e * n]);
   }
   for (int r = 0; r < int(m.ringCount()); ++r)
-    m.chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(vqSection(sections, "chroma/ring" + std::to_string(r), path), path);
+    m.chroma[std::size_t(r)] = unpackPlanar<std::int32_t>(vqSection(sections, prefix + "chroma/ring" + std::to_string(r), path), path);
   if (m.options.levels >= 2) {
-    m.l2_index = unpackPlanar<std::uint32_t>(vqSection(sections, "level2/index", path), path);
-    m.l2_scale = unpackPlanar<std::uint16_t>(vqSection(sections, "level2/scale", path), path);
-    m.l2_chroma = unpackPlanar<std::uint32_t>(vqSection(sections, "level2/chroma", path), path);
+    m.l2_index = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "level2/index", path), path);
+    m.l2_scale = unpackPlanar<std::uint16_t>(vqSection(sections, prefix + "level2/scale", path), path);
+    m.l2_chroma = unpackPlanar<std::uint32_t>(vqSection(sections, prefix + "level2/chroma", path), path);
   }
 }
 
@@ -501,7 +502,7 @@ std::vector<std::shared_ptr<VqBtf::Impl>> readVqFile(const std::filesystem::path
   readVqOptions(header, path, m->options);
   if (m->width < 1 || m->height < 1 || m->width > 65536 || m->height > 65536)
     throw FileError(path, "VQ header has an invalid texel size");
-  readVqSharedSections(sections, path, *m);
+  readVqSharedSections(sections, path, *m, "");
   readVqMaterialSections(sections, "", path, *m);
   prepareReadVq(*m, path);
   // The header's codebook sizes must be those of the sections: a header whose view list was edited

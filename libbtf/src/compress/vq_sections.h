@@ -2,6 +2,7 @@
 // files (vq_io.cpp) and the databases of materials with shared codebooks (vq_database.cpp):
 //   shared:       "level1/ring<r>" (and "level1/basis<r>" for a basis-coded ring), "chroma/ring<r>",
 //                 "level2/{index,scale,chroma}"
+//                 (in a database, once per ring layout: layout g >= 1 with the prefix "group<g>/")
 //   per material: PREFIX "level3/{index,scale}", PREFIX "top/{index,scale,chroma}" (those the level
 //                 count uses; PREFIX is "" in a single-material file, "material<i>/" in a database)
 #pragma once
@@ -39,15 +40,18 @@ void readVqDirectionsHeader(const nlohmann::json& header, const std::filesystem:
 double vqRawValues(const VqBtf::Impl& m);
 // Header keys of the options and the chroma grid (both formats).
 nlohmann::json vqOptionsHeader(const VqBtf::Impl& m);
-// Format version of the sections (both formats): 4 when the BTF is on its own direction set
+// Format version of the sections (both formats): 5 for a database of several ring layouts (one group
+// of shared codebooks each, vq_database.cpp), 4 when the BTF is on its own direction set
 // (vq_directions.cpp; a reader of 3 would take it for UBO2003), 3 when level 3 has derived entries (vq_impl.h:
 // "level3/parent" and exceptions alone in "level3/index"), 2 when a level-1 ring is basis-coded
 // (vq_basis.h: "level1/basis<r>" and coefficients in "level1/ring<r>"), else 1, as files were
 // before; an older reader would misread either. Readers take 1..kVqNewestSectionsVersion.
-inline constexpr int kVqNewestSectionsVersion = 4;
+inline constexpr int kVqNewestSectionsVersion = 5;
 bool hasDerivedLevel3(const VqBtf::Impl& m);
 int vqSectionsVersion(const VqBtf::Impl& m);
-void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections);
+// The shared codebooks' sections, names prefixed by `prefix` ("" in a single-material file and for
+// a database's first ring layout, "group<g>/" for its layout g >= 1).
+void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections, const std::string& prefix);
 void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections);
 // The zstd level the writer uses for these sections, and the file size they will make.
 int vqZstdLevelFor(const std::vector<ContainerSection>& sections);
@@ -64,7 +68,8 @@ std::vector<std::size_t> vqHeaderCounts(const nlohmann::json& object, const char
 // The header's per-ring "chroma_entries" must be the sections' counts.
 void checkVqChromaEntries(const nlohmann::json& header, const VqBtf::Impl& m, const std::filesystem::path& path);
 void readVqOptions(const nlohmann::json& header, const std::filesystem::path& path, VqOptions& options);
-void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m);
+void readVqSharedSections(const std::vector<ContainerSection>& sections, const std::filesystem::path& path, VqBtf::Impl& m,
+                          const std::string& prefix);
 void readVqMaterialSections(const std::vector<ContainerSection>& sections, const std::string& prefix,
                             const std::filesystem::path& path, VqBtf::Impl& m);
 // Impl::prepare with its errors as FileErrors of `path`.

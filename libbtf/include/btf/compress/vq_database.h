@@ -14,6 +14,11 @@
 // material decodes to exactly what it decoded to before) and stores each distinct codebook entry
 // once; it does not re-quantize, so entries that are close but not equal stay apart.
 //
+// Materials on direction sets with other light rings (the 81-direction set and the Bonn dome,
+// core/btf_ring_layout.h) cannot share codebooks, which are per ring; a database holds one group
+// of shared codebooks per ring layout, and each material belongs to the group of its layout.
+// Compression and merges group the materials by layout in order of first appearance.
+//
 // A material's stats() give its own codebook sizes and the whole database's bytes and ratios.
 // In memory, each material is a complete VqBtf (it holds its own decoded copy of the shared
 // codebooks), so everything that takes a VqBtf (BtfMaterial, comparisons, decompression) takes a
@@ -44,7 +49,8 @@ class VqDatabase {
   // Throws btf::Error naming the materials there are.
   const VqBtf& material(std::string_view name) const;
   const VqOptions& options() const { return materials_.front().options(); }
-  // Entries of the shared codebooks: level 1 (rings 1..5) and, with levels >= 2, level 2.
+  // Entries of the shared codebooks (summed over the ring-layout groups): level 1 (rings of more
+  // than one light) and, with levels >= 2, level 2.
   std::vector<std::size_t> sharedEntries() const;
   // Raw size of all materials as 8-bit RGB (the numerator of ratio_u8, docs/design-notes.md#measures).
   double rawBytesU8() const;
