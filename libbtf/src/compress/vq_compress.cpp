@@ -844,12 +844,12 @@ std::shared_ptr<VqBtf::Impl> materialImpl(const BtfSource& source, const VqOptio
 }
 
 // The level-1 ring bases (vq_basis.h), learned from the source's first view: only with
-// level1_cut, and none at epsilon 0, where every value is kept as it is.
-std::vector<VqRingBasis> vqRingBasesFor(const BtfSource& source, const VqOptions& options) {
+// level1_cut, and none at epsilon 0, where every value is kept as it is. `layout`: the source's
+// (materialImpl derived it).
+std::vector<VqRingBasis> vqRingBasesFor(const BtfSource& source, const BtfRingLayout& layout, const VqOptions& options) {
   if (!options.level1_cut || !(options.epsilon > 0.0f)) return {};
   std::vector<Rgb> view;
   source.loadView(source.views().view(0), view);
-  const BtfRingLayout layout = BtfRingLayout::of(source.directions(), "VQ compression of " + source.name());
   if (view.size() != source.texelCount() * std::size_t(layout.lightCount()))
     throw Error(source.name() + ": view " + std::to_string(source.views().view(0)) + " has the wrong number of values");
   const int value_shift = vqPrecisionFor(options.epsilon, layout.maxSize()).value_shift;
@@ -862,7 +862,7 @@ VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   checkVqOptions(options);
   const auto start = std::chrono::steady_clock::now();
   auto impl = materialImpl(source, options, source.name() + " (vq)");
-  inArena(options.threads, [&] { Compressor(options, *impl, vqRingBasesFor(source, options)).run(source, *impl); });
+  inArena(options.threads, [&] { Compressor(options, *impl, vqRingBasesFor(source, impl->layout, options)).run(source, *impl); });
   VqBtf::Impl* const material = impl.get();
   pruneVqCodebooks(*impl, std::span(&material, 1));
   impl->prepare("compressVq");
@@ -902,7 +902,7 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
     books.options = options;
     books.setLayout(impls[group_first[g]]->layout);
     inArena(options.threads, [&] {
-      Compressor compressor(options, books, vqRingBasesFor(*sources[group_first[g]], options));
+      Compressor compressor(options, books, vqRingBasesFor(*sources[group_first[g]], books.layout, options));
       for (std::size_t i = 0; i < sources.size(); ++i)
         if (group_of[i] == g) compressor.run(*sources[i], *impls[i]);
     });

@@ -129,6 +129,7 @@ struct BtfMaterial::LightTables {
   // triangles.
   const HemisphereTriangulation* triangulation = nullptr;
   std::vector<float> triangle_cdf;
+  std::vector<float> light_luminance, triangle_mass;  // work buffers, kept to reuse their memory
 };
 
 BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter, std::string name)
@@ -216,9 +217,13 @@ const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, gl
     // Triangle masses: solid angle x cos theta at the centre x the mean luminance of the corners.
     const HemisphereTriangulation& lights = scattered_->lights(view);
     tables.triangulation = &lights;
-    std::vector<float> lum(std::size_t(btf_->lookupViews().directions().lightCount(view)));
+    // The buffers live in the per-thread cache: a sampler rebuilds these tables for every new wo
+    // or texel, and allocates nothing once they have grown.
+    std::vector<float>& lum = tables.light_luminance;
+    lum.resize(std::size_t(btf_->lookupViews().directions().lightCount(view)));
     for (std::size_t l = 0; l < lum.size(); ++l) lum[l] = std::max(btf_->value(x, y, view, int(l)).luminance(), 0.0f);
-    std::vector<float> mass(std::size_t(lights.triangleCount()));
+    std::vector<float>& mass = tables.triangle_mass;
+    mass.resize(std::size_t(lights.triangleCount()));
     for (int t = 0; t < lights.triangleCount(); ++t) {
       const auto& d = lights.triangleDirections(t);
       const float mean = (lum[std::size_t(d[0])] + lum[std::size_t(d[1])] + lum[std::size_t(d[2])]) / 3.0f;
