@@ -1,6 +1,5 @@
 // Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/): small valid files of
-// every kind, made by libbtf's own writers at reduced sizes where the format allows (and by the
-// small tensor_file writer below, as libbtf reads RGL files but does not write them), plus the
+// every kind, made by libbtf's own writers at reduced sizes where the format allows, plus the
 // bad-input cases of the command-line tests. Nothing third-party. Built with the fuzz targets;
 // run by `tools/fuzz/run.sh --make-corpus`.
 //   make_corpus OUT_FOLDER
@@ -23,6 +22,10 @@
 #include "btf/io/btf_data.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/image.h"
+#include "btf/io/rgl_tensor.h"
+#include "btf/material/ggx.h"
+#include "btf/material/lambert.h"
+#include "btf/material/rgl_acquisition.h"
 
 namespace fs = std::filesystem;
 using Bytes = std::vector<std::uint8_t>;
@@ -78,35 +81,21 @@ void merl(const fs::path& out) {
   put(out / "short-header.binary", prefix(header, 7));
 }
 
-// tensor_file (Mitsuba's format of the RGL files): magic, version 1.0, field count, then per field
-// name, rank, dtype code, offset and shape; the data after the header.
-struct TensorSeedField {
-  std::string name;
-  std::uint8_t dtype;  // 1 u8, 10 f32
-  std::vector<std::uint64_t> shape;
-  Bytes data;
-};
-Bytes tensorFile(const std::vector<TensorSeedField>& fields) {
-  Bytes header(std::begin("tensor_file"), std::end("tensor_file"));  // with its NUL
-  header.push_back(1);
-  header.push_back(0);
-  append(header, std::uint32_t(fields.size()));
-  std::size_t header_size = header.size();
-  for (const auto& f : fields) header_size += 2 + f.name.size() + 2 + 1 + 8 + 8 * f.shape.size();
-  std::uint64_t offset = header_size;
-  Bytes data;
-  for (const auto& f : fields) {
-    append(header, std::uint16_t(f.name.size()));
-    header.insert(header.end(), f.name.begin(), f.name.end());
-    append(header, std::uint16_t(f.shape.size()));
-    header.push_back(f.dtype);
-    append(header, offset);
-    for (std::uint64_t e : f.shape) append(header, e);
-    data.insert(data.end(), f.data.begin(), f.data.end());
-    offset += f.data.size();
-  }
-  header.insert(header.end(), data.begin(), data.end());
-  return header;
+// A tensor_file field of raw little-endian bytes (dtype codes: 1 u8, 10 f32), written by libbtf's
+// encoder (btf/io/rgl_tensor.h).
+btf::TensorField tensorSeedField(std::string name, btf::TensorDtype dtype, std::vector<std::uint64_t> shape,
+                                 const Bytes& data) {
+  btf::TensorField f;
+  f.name = std::move(name);
+  f.dtype = dtype;
+  f.shape = std::move(shape);
+  for (const std::uint8_t b : data) f.bytes.push_back(std::byte{b});
+  return f;
+}
+Bytes tensorFile(const std::vector<btf::TensorField>& fields) {
+  Bytes out;
+  for (const std::byte b : btf::encodeTensorFile(fields)) out.push_back(std::to_integer<std::uint8_t>(b));
+  return out;
 }
 Bytes floats(std::size_t n, float base, float step) {
   Bytes b;
@@ -117,16 +106,17 @@ Bytes floats(std::size_t n, float base, float step) {
 void rgl(const fs::path& out) {
   // A tiny isotropic RGB material: 2 incidence angles, 4 x 4 tables (the real files hold 32 x 32).
   const std::uint64_t nt = 2, r = 4;
-  std::vector<TensorSeedField> fields = {
-      {"description", 1, {5}, Bytes{'s', 'e', 'e', 'd', 0}},
-      {"jacobian", 1, {1}, Bytes{1}},
-      {"phi_i", 10, {1}, floats(1, 0.0f, 0.0f)},
-      {"theta_i", 10, {nt}, [] { Bytes b; append(b, 0.0f); append(b, 1.2f); return b; }()},
-      {"ndf", 10, {r, r}, floats(r * r, 0.5f, 0.1f)},
-      {"sigma", 10, {r, r}, floats(r * r, 1.0f, 0.05f)},
-      {"vndf", 10, {1, nt, r, r}, floats(nt * r * r, 0.2f, 0.1f)},
-      {"luminance", 10, {1, nt, r, r}, floats(nt * r * r, 0.3f, 0.05f)},
-      {"rgb", 10, {1, nt, 3, r, r}, floats(nt * 3 * r * r, 0.1f, 0.02f)},
+  using D = btf::TensorDtype;
+  std::vector<btf::TensorField> fields = {
+      tensorSeedField("description", D::UInt8, {5}, Bytes{'s', 'e', 'e', 'd', 0}),
+      tensorSeedField("jacobian", D::UInt8, {1}, Bytes{1}),
+      tensorSeedField("phi_i", D::Float32, {1}, floats(1, 0.0f, 0.0f)),
+      tensorSeedField("theta_i", D::Float32, {nt}, [] { Bytes b; append(b, 0.0f); append(b, 1.2f); return b; }()),
+      tensorSeedField("ndf", D::Float32, {r, r}, floats(r * r, 0.5f, 0.1f)),
+      tensorSeedField("sigma", D::Float32, {r, r}, floats(r * r, 1.0f, 0.05f)),
+      tensorSeedField("vndf", D::Float32, {1, nt, r, r}, floats(nt * r * r, 0.2f, 0.1f)),
+      tensorSeedField("luminance", D::Float32, {1, nt, r, r}, floats(nt * r * r, 0.3f, 0.05f)),
+      tensorSeedField("rgb", D::Float32, {1, nt, 3, r, r}, floats(nt * 3 * r * r, 0.1f, 0.02f)),
   };
   const Bytes valid = tensorFile(fields);
   put(out / "tiny.bsdf", valid);
@@ -138,6 +128,15 @@ void rgl(const fs::path& out) {
   const float q = std::nanf("");
   std::memcpy(nan.data() + nan.size() - 8, &q, 4);
   put(out / "nan.bsdf", nan);
+  // What `btf convert X out.bsdf` writes (virtual acquisition), at the smallest resolutions.
+  btf::RglAcquisitionOptions small;
+  small.theta_i_count = 3;
+  small.resolution = 4;
+  small.vndf_resolution = 8;
+  small.ndf_resolution = 8;
+  put(out / "written-ggx.bsdf",
+      tensorFile(btf::acquireRglFields(btf::Ggx(btf::Rgb(0.1f), btf::Rgb(0.9f, 0.6f, 0.5f), 0.2f, 0.2f), small)));
+  put(out / "written-lambert.bsdf", tensorFile(btf::acquireRglFields(btf::Lambert(btf::Rgb(0.7f)), small)));
 }
 
 void btfz(const fs::path& out) {

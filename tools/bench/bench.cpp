@@ -15,12 +15,14 @@
 #include "bench_fits.h"
 #include "bench_materials.h"
 #include "bench_render.h"
+#include "bench_rgl_writer.h"
 #include "bench_summary.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
 #include "btf/core/progress.h"
 #include "btf/sampling/chi2.h"
 #include "btf/sampling/quadtree_sampler.h"
+#include "btf/sampling/rgl_warp_sampler.h"
 #include "comma_list.h"
 #include "bench_command.h"
 #include "btf/sampling/sampler_choice.h"
@@ -39,7 +41,8 @@ struct BenchOptions {
   std::vector<std::string> parameterizations = {"incident", "half"};
   std::uint64_t seed = 1;
   std::vector<float> epsilons, thresholds;  // empty: the sizes' defaults
-  std::vector<std::string> samplers = {"tabulated", "dp-cdf", "quadtree"};  // the table samplers run
+  std::vector<std::string> samplers = {"tabulated", "dp-cdf", "quadtree", "dj-warp"};  // the table samplers run
+  bool as_tables = false;  // every material tabulated into the MERL layout first
   int theta_o_bins = 0, half_vector_bins = 0;  // 0: the sizes' (the library's defaults)
 };
 
@@ -97,6 +100,7 @@ std::vector<Setting> settingsFor(const BenchSizes& sizes, const std::vector<Para
     if (runs(SamplerChoice::Quadtree))
       for (float t : sizes.thresholds) settings.push_back({SamplerChoice::Quadtree, t, p});
   }
+  if (runs(SamplerChoice::DjWarp)) settings.push_back({SamplerChoice::DjWarp, {}, {}});
   return settings;
 }
 
@@ -135,8 +139,14 @@ SamplingRow measure(const BenchMaterial& m, const Setting& setting, const Materi
     row.stream_samples_per_s = bestRate([&] { return streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed); });
     row.stream_with_eval_per_s =
         bestRate([&] { return streamSamplesPerSecond(*binned, wo, sizes.speed_draws, seed, true); });
+  } else if (const auto* warp = dynamic_cast<const RglWarpSampler*>(&sampled)) {
+    row.bytes = double(warp->bytes());
+    // The warp has no stream call: its draws one by one, their weights' evals per block.
+    row.stream_samples_per_s = bestRate([&] { return streamSamplesPerSecond(sampled, wo, sizes.speed_draws, seed); });
+    row.stream_with_eval_per_s =
+        bestRate([&] { return streamSamplesPerSecond(sampled, wo, sizes.speed_draws, seed, true); });
   } else if (setting.choice != SamplerChoice::Own) {
-    row.bytes = 0.0;  // a warp has no tables
+    row.bytes = 0.0;  // a hemisphere warp has no tables
   }
   row.samples_per_s = bestRate([&] { return samplesPerSecond(sampled, wo, sizes.speed_draws, seed); });
   // The harness's default 20 x 40 cells: it integrates the sharp piecewise-constant tables
@@ -217,15 +227,16 @@ void runBenchSampling(const BenchOptions& o) {
   std::vector<SamplerChoice> samplers;
   for (const std::string& name : o.samplers) {
     const auto c = parseSamplerChoice(name);
-    if (!c || (*c != SamplerChoice::Tabulated && *c != SamplerChoice::DpCdf && *c != SamplerChoice::Quadtree))
-      throw Error("--samplers: '" + name + "' is not a table sampler (known: tabulated, dp-cdf, quadtree)");
+    if (!c || (*c != SamplerChoice::Tabulated && *c != SamplerChoice::DpCdf && *c != SamplerChoice::Quadtree &&
+               *c != SamplerChoice::DjWarp))
+      throw Error("--samplers: '" + name + "' is not a table sampler (known: tabulated, dp-cdf, quadtree, dj-warp)");
     samplers.push_back(*c);
   }
   const std::vector<Setting> settings = settingsFor(sizes, parameterizations, samplers);
   std::vector<SamplingRow> rows;
   Progress progress("bench sampling", names.size() * (settings.size() + 1));
   for (const std::string& name : names) {
-    const BenchMaterial m = loadBenchMaterial(name);
+    const BenchMaterial m = o.as_tables ? asTable(loadBenchMaterial(name)) : loadBenchMaterial(name);
     // The reference: deterministic quadrature of the material itself, so that an estimate's error
     // is measured against the exact value rather than against another noisy estimate.
     std::vector<double> reference;
@@ -239,6 +250,11 @@ void runBenchSampling(const BenchOptions& o) {
     }
     progress.advance();
     for (const Setting& setting : settings) {
+      if (setting.choice == SamplerChoice::DjWarp && m.material->isAnisotropic()) {
+        std::printf("  dj-warp    skipped: %s is anisotropic, and an RGL file written here is isotropic\n", m.name.c_str());
+        progress.advance();
+        continue;
+      }
       const std::shared_ptr<const Material> sampled = build(m, setting, sizes);
       for (std::size_t v = 0; v < o.theta_o.size(); ++v) {
         rows.push_back(measure(m, setting, *sampled, sizes, o.theta_o[v], reference[v], o.seed));
@@ -260,6 +276,7 @@ void runBenchSampling(const BenchOptions& o) {
   printQuadtreeSummary(stdout, rows);
   printMemoryTargetSummary(stdout, rows);
   printOwnSamplerSummary(stdout, rows);
+  printWarpSummary(stdout, rows);
   const std::filesystem::path csv = folder / "sampling.csv";
   writeSamplingCsv(csv, rows);
   std::printf("wrote %s (%zu rows)\n", csv.string().c_str(), rows.size());
@@ -281,6 +298,9 @@ void registerBenchCommand(CLI::App& app) {
                   "Comma-separated: btf-datagen presets by name, or any material file or spec the other verbs open "
                   "(an RGL .bsdf, a MERL .binary, a fit .json, merl-fit:MODEL:NAME, ...)");
   cmd->add_flag("--quick", o->quick, "Tiny tables and few draws (seconds; for tests)");
+  cmd->add_flag("--as-tables", o->as_tables,
+                "Tabulate every material into the MERL layout first (an RGL file or a fit as a measured table: no "
+                "sampler then starts from the material's own parameterization)");
   cmd->add_option("--theta-o", o->theta_o, "Outgoing zenith angles of the measurements (deg, comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--parameterizations", o->parameterizations,
@@ -290,8 +310,8 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--epsilons", o->epsilons, "DP-CDF tolerances (default 1e-3,3e-3,1e-2)")->delimiter(',');
   cmd->add_option("--thresholds", o->thresholds, "Quadtree max/mean thresholds (default 2,8)")->delimiter(',');
   cmd->add_option("--samplers", o->samplers,
-                  "Table samplers to measure (comma-separated: tabulated, dp-cdf, quadtree); the uniform, cosine "
-                  "and material's own samplers always run")
+                  "Table samplers to measure (comma-separated: tabulated, dp-cdf, quadtree, dj-warp: the Dupuy-Jakob warp "
+                  "of the material written as an RGL file); the uniform, cosine and material's own samplers always run")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--theta-o-bins", o->theta_o_bins, "theta_o bins of the tables (default: the library's, 32)");
   cmd->add_option("--half-vector-bins", o->half_vector_bins,
@@ -303,6 +323,7 @@ void registerBenchCommand(CLI::App& app) {
   addBenchDecodeCommand(*bench);
   addBenchFitsCommand(*bench);
   addBenchRenderCommand(*bench);
+  addBenchRglWriterCommand(*bench);
 }
 
 }  // namespace btf::cli

@@ -59,4 +59,10 @@ BenchMaterial loadBenchMaterial(const std::string& name) {
   return {materialLabel(material), createMaterial(material.params)};
 }
 
+BenchMaterial asTable(const BenchMaterial& m) {
+  if (dynamic_cast<const TabulatedBrdf*>(m.material.get())) return m;
+  auto table = std::make_shared<const MerlTable>(tabulate(*m.material));
+  return {m.name + " (MERL table)", std::make_shared<TabulatedBrdf>(std::move(table), TableLookup::Interpolated)};
+}
+
 }  // namespace btf::cli

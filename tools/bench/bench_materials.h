@@ -26,4 +26,9 @@ std::vector<std::string> defaultBenchMaterialNames(bool quick);
 // that is neither.
 BenchMaterial loadBenchMaterial(const std::string& name);
 
+// The material tabulated into the MERL layout and read back with the interpolated lookup (a table
+// stays as it is): every sampler then starts from a measured-style table, none from the material's
+// own parameterization. The name gains " (MERL table)".
+BenchMaterial asTable(const BenchMaterial& material);
+
 }  // namespace btf::cli

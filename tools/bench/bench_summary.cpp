@@ -1,7 +1,10 @@
 #include "bench_summary.h"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace btf::cli {
 namespace {
@@ -119,6 +122,82 @@ void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows
                  r.material.c_str(), r.theta_o_deg, *r.ceiling_vs_own, *r.stream_ceiling_vs_own,
                  r.proportional_variance_vs_own.value_or(0.0), kSingleQueryTarget, budget, r.eval_env_ns.value_or(0.0));
   }
+}
+
+namespace {
+
+// Efficiency with the stream call's time per draw and the eval of its weight (as stream_efficiency_vs_own).
+std::optional<double> streamEfficiency(const SamplingRow& r) {
+  if (!r.stream_with_eval_per_s || !(r.per_sample_variance > 0)) return std::nullopt;
+  return *r.stream_with_eval_per_s / r.per_sample_variance;
+}
+
+}  // namespace
+
+void printWarpSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
+  std::vector<const SamplingRow*> warps;
+  for (const SamplingRow& r : rows)
+    if (r.sampler == "dj-warp" && r.bytes) warps.push_back(&r);
+  if (warps.empty()) return;
+  std::fprintf(out,
+               "\nDP-CDF at no more bytes than the Dupuy-Jakob warp of the same material written as an RGL file (dj-warp), "
+               "the best epsilon and parameterization per view (ratios > 1: DP-CDF is better; eff = 1 / (variance * "
+               "seconds) per single query, stream = with the stream's time per draw and its weights' eval, var = "
+               "environment-lit variance per sample, warp / DP-CDF):\n");
+  std::fprintf(out, "  %-40s %7s %10s %10s %-9s %7s %9s %9s %9s\n", "material", "theta_o", "warp bytes", "dp bytes",
+               "param", "eps", "eff", "stream", "var");
+  struct Tally {
+    double log_single = 0, log_stream = 0;
+    int views = 0, stream_views = 0;
+  };
+  std::vector<std::pair<std::string, Tally>> materials;
+  for (const SamplingRow* w : warps) {
+    const SamplingRow* best = nullptr;
+    const SamplingRow* best_stream = nullptr;
+    for (const SamplingRow& r : rows) {
+      if (r.material != w->material || r.theta_o_deg != w->theta_o_deg || r.sampler != "dp-cdf" || !r.bytes ||
+          *r.bytes > *w->bytes)
+        continue;
+      if (!best || r.efficiency > best->efficiency) best = &r;
+      if (streamEfficiency(r) && (!best_stream || *streamEfficiency(r) > *streamEfficiency(*best_stream))) best_stream = &r;
+    }
+    if (materials.empty() || materials.back().first != w->material) materials.push_back({w->material, {}});
+    Tally& t = materials.back().second;
+    if (!best || !(w->efficiency > 0)) {
+      std::fprintf(out, "  %-40s %7.0f %10.0f  no DP-CDF setting within these bytes\n", w->material.c_str(), w->theta_o_deg,
+                   *w->bytes);
+      continue;
+    }
+    const double single = best->efficiency / w->efficiency;
+    t.log_single += std::log(single);
+    ++t.views;
+    char stream[16] = "";
+    if (best_stream && streamEfficiency(*w)) {
+      const double ratio = *streamEfficiency(*best_stream) / *streamEfficiency(*w);
+      std::snprintf(stream, sizeof stream, "%.2f", ratio);
+      t.log_stream += std::log(ratio);
+      ++t.stream_views;
+    }
+    std::fprintf(out, "  %-40s %7.0f %10.0f %10.0f %-9s %7.3g %9.2f %9s %9.3f\n", w->material.c_str(), w->theta_o_deg,
+                 *w->bytes, *best->bytes, best->parameterization.c_str(), best->parameter.value_or(0), single, stream,
+                 best->per_sample_variance > 0 ? w->per_sample_variance / best->per_sample_variance : 0.0);
+  }
+  int single_wins = 0, stream_wins = 0, counted = 0;
+  std::string losses;
+  for (const auto& [name, t] : materials) {
+    if (t.views == 0) continue;
+    ++counted;
+    const double single = std::exp(t.log_single / t.views);
+    const double stream = t.stream_views ? std::exp(t.log_stream / t.stream_views) : 0.0;
+    single_wins += single >= 1.0;
+    stream_wins += stream >= 1.0;
+    if (single < 1.0) losses += (losses.empty() ? "" : ", ") + name;
+    std::fprintf(out, "  %-40s geometric mean over its views: eff %.2f, stream %.2f\n", name.c_str(), single, stream);
+  }
+  std::fprintf(out,
+               "DP-CDF within the warp's bytes reaches the warp's efficiency (geometric mean over the views) on %d of %d "
+               "materials per single query, %d of %d in streams; below it per single query: %s\n",
+               single_wins, counted, stream_wins, counted, losses.empty() ? "none" : losses.c_str());
 }
 
 }  // namespace btf::cli

@@ -7,7 +7,10 @@
 //   with the epsilons meeting both marked.
 // - against the material's own sampler (for an RGL file, the file's warp): per material, theta_o,
 //   parameterization and setting, the single-query and stream efficiency ratios and the variance
-//   ratios with and without the environment.
+//   ratios with and without the environment;
+// - against the Dupuy-Jakob warp of the material written as an RGL file (dj-warp): per material
+//   and view, the best DP-CDF setting within the warp's bytes, its efficiency ratios, and how many
+//   materials it reaches the warp's efficiency on.
 // Summaries compare rows of one material, theta_o and parameterization (SamplingRow::group).
 // Efficiency is a measurement (a variance estimate times a wall time), so a ratio near 0.95 is
 // within its noise; the table says so rather than hiding it.
@@ -23,5 +26,7 @@ namespace btf::cli {
 void printQuadtreeSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
+// DP-CDF at no more bytes than the dj-warp row of the same material and view, against it.
+void printWarpSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 
 }  // namespace btf::cli

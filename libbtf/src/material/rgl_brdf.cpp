@@ -203,10 +203,18 @@ void RglBrdf::evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::
   for (std::size_t k = evalLanes(wo, o, wi, out); k < wi.size(); ++k) out[k] = evalWith(wi[k], wo, o);
 }
 
-std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
+std::optional<RglBrdf::DirectionSample> RglBrdf::sampleDirection(const glm::vec3& wo, glm::vec2 u) const {
   if (wo.z <= 0.0f) return std::nullopt;
   const Outgoing o = outgoing(wo);
   const BilinearWarp2D::Fixed luminance = luminanceAt(o);
+  const auto drawn = draw(wo, o, luminance, u);
+  if (!drawn) return std::nullopt;
+  return DirectionSample{drawn->first, drawn->second.pdf};
+}
+
+std::optional<std::pair<glm::vec3, RglBrdf::InverseMap>> RglBrdf::draw(const glm::vec3& wo, const Outgoing& o,
+                                                                        const BilinearWarp2D::Fixed& luminance,
+                                                                        glm::vec2 u) const {
   const glm::vec2 s = luminance.sample(u).p;
   const glm::vec2 u_m = o.vndf.sample(s).p;
   const glm::vec3 m = sphericalDirection(unitToTheta(u_m.x), u_m.y * kTwoPi - kPi + kTwoPi * o.phi_o_turns);
@@ -220,6 +228,16 @@ std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::v
   // reflection make the two disagree by orders of magnitude (|u| < 1e-5 at grazing wo).
   const InverseMap r = mapBack(wi, wo, o, &luminance);
   if (!(r.pdf > 0.0f)) return std::nullopt;  // the edge of the support
+  return std::make_pair(wi, r);
+}
+
+std::optional<BsdfSample> RglBrdf::sample(const glm::vec3& wo, glm::vec2, glm::vec2 u) const {
+  if (wo.z <= 0.0f) return std::nullopt;
+  const Outgoing o = outgoing(wo);
+  const BilinearWarp2D::Fixed luminance = luminanceAt(o);
+  const auto drawn = draw(wo, o, luminance, u);
+  if (!drawn) return std::nullopt;
+  const auto& [wi, r] = *drawn;
   const Rgb weight = reflectanceTimesCos(r.s, r.u_m, o) / r.pdf;
   // A weight beyond the float range means the file's values and the luminance its warp was built
   // from disagree by dozens of orders of magnitude (a damaged or forged file; a fuzzed one had f

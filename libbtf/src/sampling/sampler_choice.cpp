@@ -5,12 +5,13 @@
 
 #include "btf/core/error.h"
 #include "btf/sampling/octree_bound_sampler.h"
+#include "btf/sampling/rgl_warp_sampler.h"
 #include "btf/core/warp.h"
 
 namespace btf {
 namespace {
 
-constexpr std::array<std::pair<SamplerChoice, std::string_view>, 7> kNames = {{
+constexpr std::array<std::pair<SamplerChoice, std::string_view>, 8> kNames = {{
     {SamplerChoice::Uniform, "uniform"},
     {SamplerChoice::Cosine, "cosine"},
     {SamplerChoice::Own, "material"},
@@ -18,6 +19,7 @@ constexpr std::array<std::pair<SamplerChoice, std::string_view>, 7> kNames = {{
     {SamplerChoice::DpCdf, "dp-cdf"},
     {SamplerChoice::Quadtree, "quadtree"},
     {SamplerChoice::OctreeBound, "octree-bound"},
+    {SamplerChoice::DjWarp, "dj-warp"},
 }};
 
 // A material sampled by a fixed hemisphere warp: what a renderer without importance sampling does.
@@ -78,6 +80,7 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
     case SamplerChoice::Tabulated: return makeSampler(SamplerKind::Tabulated, std::move(material), options);
     case SamplerChoice::DpCdf: return makeSampler(SamplerKind::DpCdf, std::move(material), options);
     case SamplerChoice::Quadtree: return makeSampler(SamplerKind::Quadtree, std::move(material), options);
+    case SamplerChoice::DjWarp: return std::make_shared<RglWarpSampler>(std::move(material));
     case SamplerChoice::OctreeBound: {
       auto octree = std::dynamic_pointer_cast<const OctreeBrdf>(material);
       if (!octree)
@@ -91,12 +94,13 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
 
 bool tabulatesOneBrdf(SamplerChoice choice) {
   return choice == SamplerChoice::Tabulated || choice == SamplerChoice::DpCdf || choice == SamplerChoice::Quadtree ||
-         choice == SamplerChoice::OctreeBound;
+         choice == SamplerChoice::OctreeBound || choice == SamplerChoice::DjWarp;
 }
 
 std::size_t samplerTableBytes(const Material& sampled) {
   if (const auto* binned = dynamic_cast<const BinnedSampler*>(&sampled)) return binned->stats().bytes;
   if (const auto* octree = dynamic_cast<const OctreeBoundSampler*>(&sampled)) return octree->bytes();
+  if (const auto* warp = dynamic_cast<const RglWarpSampler*>(&sampled)) return warp->bytes();
   return 0;
 }
 
@@ -105,6 +109,12 @@ std::optional<glm::vec3> drawDirection(const Material& sampled, const glm::vec3&
   if (const auto* binned = dynamic_cast<const BinnedSampler*>(&sampled)) {
     int tries = 0;
     const auto d = binned->sampleDirection(wo, u, tries);
+    if (!d) return std::nullopt;
+    pdf = d->pdf;
+    return d->wi;
+  }
+  if (const auto* warp = dynamic_cast<const RglWarpSampler*>(&sampled)) {
+    const auto d = warp->sampleDirection(wo, u);
     if (!d) return std::nullopt;
     pdf = d->pdf;
     return d->wi;

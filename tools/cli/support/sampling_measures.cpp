@@ -157,6 +157,36 @@ double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo,
   return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
 }
 
+double streamSamplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed,
+                              bool with_eval) {
+  Rng rng(seed, 2);
+  constexpr std::size_t kBlock = 256;
+  std::vector<glm::vec2> u(kBlock);
+  std::vector<glm::vec3> wi(kBlock);
+  std::vector<float> pdf(kBlock);
+  std::vector<Rgb> f(kBlock);
+  volatile float sink = 0;
+  float acc = 0;
+  double seconds = 0;
+  for (std::uint64_t done = 0; done < count; done += kBlock) {
+    for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
+    const auto start = Clock::now();
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      const auto d = drawDirection(sampled, wo, u[k], pdf[k]);
+      wi[k] = d ? *d : glm::vec3(0.0f);
+    }
+    if (with_eval) {
+      sampled.evalMany(wo, wi, f);
+      for (const Rgb& v : f) acc += v.luminance();
+    }
+    seconds += secondsSince(start);
+    acc += pdf[done / kBlock % kBlock];
+  }
+  sink = acc;
+  (void)sink;
+  return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
+}
+
 EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& wo, std::uint64_t count,
                                     std::uint64_t seed, int timing_repeats) {
   // The own draws, and the moments both variances need.

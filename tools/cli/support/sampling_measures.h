@@ -55,6 +55,10 @@ double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint6
 // a renderer needs for the weight f cos / pdf) inside the timed part.
 double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
                               std::uint64_t seed, bool with_eval = false);
+// The same for a sampler without a stream call (dj-warp): drawDirection one by one into blocks of
+// 256, with_eval then evaluating each block with evalMany, as above.
+double streamSamplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed,
+                              bool with_eval = false);
 
 // What a BSDF sampler of a material that samples f cos exactly would reach, relative to the
 // material's own sampler, measured on `count` of the own sampler's draws (stream `seed`, as

@@ -3,7 +3,8 @@
 // .bsdf, a fit, a merl-fit spec) converts to either by tabulating it into the MERL layout; any of
 // them converts to an octree table (.octree, compress/octree_table.h) with --tolerance, and an
 // octree back to a table. And between BTF layouts: any BTF the registry opens (an image folder, a
-// Bonn .btf file, a .btfz) to an image folder or a Bonn .btf file (support/btf_output.h).
+// Bonn .btf file, a .btfz) to an image folder or a Bonn .btf file (support/btf_output.h). Any
+// isotropic material, or a BTF texel, to an RGL .bsdf by virtual acquisition (support/rgl_output.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +21,7 @@
 #include "btf_output.h"
 #include "commands.h"
 #include "material_input.h"
+#include "rgl_output.h"
 
 namespace btf::cli {
 namespace {
@@ -29,6 +31,7 @@ struct ConvertOptions {
   double tolerance = 0;
   bool tolerance_given = false;
   BtfOutputOptions btf;
+  RglOutputOptions rgl;
 };
 
 // The largest relative difference of a measured cell from its stored value: the quantity the
@@ -53,9 +56,8 @@ TableOutput tableOutputOf(const std::filesystem::path& path) {
   if (ext == ".binary") return TableOutput::MerlBinary;
   if (ext == ".exr") return TableOutput::ExrStack;
   if (ext == ".octree") return TableOutput::Octree;
-  if (ext == ".bsdf") throw FileError(path, "convert cannot write .bsdf files (RGL tensor_file is read-only here)");
   if (ext == ".json") throw FileError(path, "convert does not write fits; btf fit does");
-  throw FileError(path, "convert writes .binary (MERL), .exr (a stack of MERL half/diff slices) or .octree");
+  throw FileError(path, "convert writes .binary (MERL), .exr (a stack of MERL half/diff slices), .octree or .bsdf (RGL)");
 }
 
 // The registered format of that extension: the one the file will be read back as.
@@ -84,6 +86,14 @@ void writeOctree(const ConvertOptions& o, const MerlTable& table) {
 
 void runConvert(const ConvertOptions& o) {
   const IdentifiedMaterial from = identifyMaterial(o.in);
+  if (std::filesystem::path(o.out).extension() == ".bsdf") {
+    if (o.tolerance_given) throw Error("--tolerance applies to an .octree output, not to " + o.out);
+    if (!(o.btf == BtfOutputOptions{})) throw Error("the BTF output options do not apply to an RGL file (" + o.out + ")");
+    return writeRglOutput(from, o.in, o.out, o.rgl);
+  }
+  if (o.rgl.given() || !o.rgl.texel.empty())
+    throw Error("--theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description and --texel apply to an "
+                "RGL output (OUT ending in .bsdf), not to " + o.out);
   if (isBtf(from)) {
     if (o.tolerance_given) throw Error("--tolerance applies to an .octree output of a BRDF, not to the BTF " + o.in);
     return writeBtfOutput(*materialBtf(from), o.out, o.btf);
@@ -111,16 +121,18 @@ void registerConvertCommand(CLI::App& app) {
       "convert",
       "Convert between MERL-layout tables: MERL .binary <-> EXR stack (.exr: 90 parts, one per theta_h index, each 180x90 RGB "
       "float of phi_d x theta_d with f in 1/sr; unmeasured samples stay negative), -> octree (.octree, lossless at tolerance "
-      "0), and from an RGL .bsdf or a btf fit .json by tabulating it. A BTF (image folder, Bonn .btf, .btfz) converts to "
+      "0), and from an RGL .bsdf or a btf fit .json by tabulating it. Any isotropic material (or a BTF texel with --texel) "
+      "-> an RGL .bsdf by virtual acquisition (Dupuy & Jakob 2018), for Mitsuba 3's measured plugin. A BTF (image folder, Bonn .btf, .btfz) converts to "
       "an image folder or a Bonn .btf file (OUT ending in .btf: DFMF, FMF or PVF by a truncated SVD)");
   auto o = std::make_shared<ConvertOptions>();
   cmd->add_option("IN", o->in,
                   "Input: any BRDF the registry opens (.binary, .exr, .octree, .bsdf, a fit .json, merl-fit:MODEL:NAME), "
                   "or a BTF (an image folder, a Bonn .btf, a .btfz)")
       ->required();
-  cmd->add_option("OUT", o->out, "Output (.binary, .exr or .octree; for a BTF a folder or .btf), written atomically")
+  cmd->add_option("OUT", o->out, "Output (.binary, .exr, .octree or .bsdf; for a BTF a folder, .btf, or .bsdf with --texel), written atomically")
       ->required();
   addBtfOutputOptions(*cmd, o->btf);
+  addRglOutputOptions(*cmd, o->rgl);
   cmd->add_option_function<double>(
          "--tolerance",
          [o](double t) {

@@ -1,4 +1,4 @@
-// Reader of the `tensor_file` format of Mitsuba and the RGL measured-material database
+// Reader and writer of the `tensor_file` format of Mitsuba and the RGL measured-material database
 // (Dupuy & Jakob 2018): a small header naming typed n-dimensional arrays ("fields") stored in the
 // same file. Layout, little-endian:
 //   char[12] "tensor_file\0", u8 major, u8 minor (1.0 is the only version), u32 field count,
@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -58,5 +59,19 @@ struct TensorFile {
 };
 
 TensorFile readTensorFile(const std::filesystem::path& path);
+
+// A field of the given dtype and shape from values (converted to the dtype: f32 rounds, u8 and u32
+// must be integers in range). Throws btf::Error when the values do not fill the shape.
+TensorField tensorField(std::string name, TensorDtype dtype, std::vector<std::uint64_t> shape,
+                        std::span<const double> values);
+// A u8 field of rank 1 holding `text` (e.g. `description`).
+TensorField tensorTextField(std::string name, std::string_view text);
+
+// The bytes of a tensor_file 1.0 holding `fields` in this order: the header, then each field's
+// data at the next multiple of 8 bytes, as the files of the RGL database are laid out. Throws
+// btf::Error for duplicate names or a field whose bytes do not match its dtype and shape.
+std::vector<std::byte> encodeTensorFile(const std::vector<TensorField>& fields);
+// encodeTensorFile written atomically (a temporary file renamed into place; FileError names `path`).
+void writeTensorFile(const std::filesystem::path& path, const std::vector<TensorField>& fields);
 
 }  // namespace btf

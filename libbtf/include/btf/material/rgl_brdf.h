@@ -35,7 +35,9 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <span>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,13 @@ class RglBrdf final : public Material {
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
   float pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
+  // The direction sample() draws and its pdf, without the RGB lookup of the weight (the warp's own
+  // cost, for callers that evaluate another material at wi: the `dj-warp` sampler).
+  struct DirectionSample {
+    glm::vec3 wi;
+    float pdf;
+  };
+  std::optional<DirectionSample> sampleDirection(const glm::vec3& wo, glm::vec2 u) const;
   // wo's angles, unit coordinates, warp slices and projected area are found once for all wi, and
   // eight wi run per step in AVX2 lanes where the CPU has them: eval()'s floats bit for bit.
   void evalMany(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<Rgb> out,
@@ -96,6 +105,9 @@ class RglBrdf final : public Material {
   InverseMap mapBack(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o,
                      const BilinearWarp2D::Fixed* luminance) const;
   Rgb evalWith(const glm::vec3& wi, const glm::vec3& wo, const Outgoing& o) const;
+  // sample()'s draw: wi and its inverse map (pdf included), or nothing where it returns nothing.
+  std::optional<std::pair<glm::vec3, InverseMap>> draw(const glm::vec3& wo, const Outgoing& o,
+                                                       const BilinearWarp2D::Fixed& luminance, glm::vec2 u) const;
   // evalWith for the leading multiple of 8 of wi in AVX2 lanes (rgl_eval_lanes.cpp), the same
   // floats; returns how many it did (0 without AVX2).
   std::size_t evalLanes(const glm::vec3& wo, const Outgoing& o, std::span<const glm::vec3> wi,

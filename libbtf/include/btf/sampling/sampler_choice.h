@@ -1,7 +1,9 @@
 // The samplers `btf sample`, `btf bench sampling` and scenes choose from, by name: two warps that ignore the
 // material (uniform and cosine hemisphere), the material's own sample() (for an RGL file the
 // Dupuy-Jakob warp of its tensor: the peer baseline), the three tabulated samplers of libbtf, and
-// for octree tables the sampler driven by the tree's node bounds (octree_bound_sampler.h).
+// for octree tables the sampler driven by the tree's node bounds (octree_bound_sampler.h), and the
+// Dupuy-Jakob warp of any isotropic material, built by writing it to an RGL file in memory
+// (rgl_warp_sampler.h).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -16,9 +18,9 @@
 
 namespace btf {
 
-enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree, OctreeBound };
+enum class SamplerChoice { Uniform, Cosine, Own, Tabulated, DpCdf, Quadtree, OctreeBound, DjWarp };
 
-// "uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree", "octree-bound".
+// "uniform", "cosine", "material", "tabulated", "dp-cdf", "quadtree", "octree-bound", "dj-warp".
 std::string_view toString(SamplerChoice choice);
 std::optional<SamplerChoice> parseSamplerChoice(std::string_view name);
 // The names above, comma-separated, for help and error messages.
@@ -34,8 +36,8 @@ std::shared_ptr<const Material> withSampler(SamplerChoice choice, std::shared_pt
 // over the surface, takes none of them.
 bool tabulatesOneBrdf(SamplerChoice choice);
 
-// Bytes of the tables a sampled material holds beside its material (0 for the warps and a
-// material's own sampler).
+// Bytes of the tables a sampled material holds beside its material (0 for the hemisphere warps and
+// a material's own sampler; the .bsdf file's bytes for dj-warp).
 std::size_t samplerTableBytes(const Material& sampled);
 
 // One draw of a direction with its pdf and nothing else where the sampler allows it (warps and the
