@@ -280,6 +280,10 @@ void runBenchSampling(const BenchOptions& o) {
   const std::filesystem::path csv = folder / "sampling.csv";
   writeSamplingCsv(csv, rows);
   std::printf("wrote %s (%zu rows)\n", csv.string().c_str(), rows.size());
+  if (const std::vector<WarpComparison> warp = compareWithWarp(rows); !warp.empty()) {
+    writeWarpComparisonCsv(folder / "warp_comparison.csv", warp);
+    std::printf("wrote %s (%zu rows)\n", (folder / "warp_comparison.csv").string().c_str(), warp.size());
+  }
   const ChartOutcome charts = drawSamplingCharts(folder, rows);
   if (!charts.message.empty()) std::fprintf(stderr, "btf: warning: %s\n", charts.message.c_str());
   for (const auto& file : charts.files) std::printf("wrote %s\n", file.string().c_str());

@@ -1,7 +1,10 @@
 #include "bench_summary.h"
 
+#include "btf/io/atomic_file.h"
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <utility>
@@ -134,11 +137,50 @@ std::optional<double> streamEfficiency(const SamplingRow& r) {
 
 }  // namespace
 
+std::vector<WarpComparison> compareWithWarp(const std::vector<SamplingRow>& rows) {
+  std::vector<WarpComparison> out;
+  for (const SamplingRow& w : rows) {
+    if (w.sampler != "dj-warp" || !w.bytes || !(w.efficiency > 0)) continue;
+    WarpComparison c;
+    c.material = w.material;
+    c.theta_o_deg = w.theta_o_deg;
+    c.warp_bytes = *w.bytes;
+    const SamplingRow* best_stream = nullptr;
+    for (const SamplingRow& r : rows) {
+      if (r.material != w.material || r.theta_o_deg != w.theta_o_deg || r.sampler != "dp-cdf" || !r.bytes ||
+          *r.bytes > *w.bytes)
+        continue;
+      if (!c.dp || r.efficiency > c.dp->efficiency) c.dp = &r;
+      if (streamEfficiency(r) && (!best_stream || *streamEfficiency(r) > *streamEfficiency(*best_stream))) best_stream = &r;
+    }
+    if (c.dp) {
+      c.efficiency_ratio = c.dp->efficiency / w.efficiency;
+      if (c.dp->per_sample_variance > 0) c.variance_ratio = w.per_sample_variance / c.dp->per_sample_variance;
+    }
+    if (best_stream && streamEfficiency(w)) c.stream_ratio = *streamEfficiency(*best_stream) / *streamEfficiency(w);
+    out.push_back(c);
+  }
+  return out;
+}
+
+void writeWarpComparisonCsv(const std::filesystem::path& path, const std::vector<WarpComparison>& comparisons) {
+  writeFileAtomically(path, [&](std::ofstream& f) {
+    f << "material,theta_o_deg,warp_bytes,dp_cdf_bytes,dp_cdf_parameterization,dp_cdf_epsilon,efficiency_vs_warp,"
+         "stream_efficiency_vs_warp,warp_variance_over_dp_cdf\n";
+    for (const WarpComparison& c : comparisons) {
+      f << '"' << c.material << "\"," << c.theta_o_deg << ',' << c.warp_bytes << ',';
+      if (c.dp) f << c.dp->bytes.value_or(0) << ',' << c.dp->parameterization << ',' << c.dp->parameter.value_or(0);
+      else f << ",,";
+      f << ',' << (c.dp ? std::to_string(c.efficiency_ratio) : "") << ','
+        << (c.stream_ratio ? std::to_string(*c.stream_ratio) : "") << ','
+        << (c.variance_ratio ? std::to_string(*c.variance_ratio) : "") << '\n';
+    }
+  });
+}
+
 void printWarpSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
-  std::vector<const SamplingRow*> warps;
-  for (const SamplingRow& r : rows)
-    if (r.sampler == "dj-warp" && r.bytes) warps.push_back(&r);
-  if (warps.empty()) return;
+  const std::vector<WarpComparison> comparisons = compareWithWarp(rows);
+  if (comparisons.empty()) return;
   std::fprintf(out,
                "\nDP-CDF at no more bytes than the Dupuy-Jakob warp of the same material written as an RGL file (dj-warp), "
                "the best epsilon and parameterization per view (ratios > 1: DP-CDF is better; eff = 1 / (variance * "
@@ -151,36 +193,25 @@ void printWarpSummary(std::FILE* out, const std::vector<SamplingRow>& rows) {
     int views = 0, stream_views = 0;
   };
   std::vector<std::pair<std::string, Tally>> materials;
-  for (const SamplingRow* w : warps) {
-    const SamplingRow* best = nullptr;
-    const SamplingRow* best_stream = nullptr;
-    for (const SamplingRow& r : rows) {
-      if (r.material != w->material || r.theta_o_deg != w->theta_o_deg || r.sampler != "dp-cdf" || !r.bytes ||
-          *r.bytes > *w->bytes)
-        continue;
-      if (!best || r.efficiency > best->efficiency) best = &r;
-      if (streamEfficiency(r) && (!best_stream || *streamEfficiency(r) > *streamEfficiency(*best_stream))) best_stream = &r;
-    }
-    if (materials.empty() || materials.back().first != w->material) materials.push_back({w->material, {}});
+  for (const WarpComparison& c : comparisons) {
+    if (materials.empty() || materials.back().first != c.material) materials.push_back({c.material, {}});
     Tally& t = materials.back().second;
-    if (!best || !(w->efficiency > 0)) {
-      std::fprintf(out, "  %-40s %7.0f %10.0f  no DP-CDF setting within these bytes\n", w->material.c_str(), w->theta_o_deg,
-                   *w->bytes);
+    if (!c.dp) {
+      std::fprintf(out, "  %-40s %7.0f %10.0f  no DP-CDF setting within these bytes\n", c.material.c_str(), c.theta_o_deg,
+                   c.warp_bytes);
       continue;
     }
-    const double single = best->efficiency / w->efficiency;
-    t.log_single += std::log(single);
+    t.log_single += std::log(c.efficiency_ratio);
     ++t.views;
     char stream[16] = "";
-    if (best_stream && streamEfficiency(*w)) {
-      const double ratio = *streamEfficiency(*best_stream) / *streamEfficiency(*w);
-      std::snprintf(stream, sizeof stream, "%.2f", ratio);
-      t.log_stream += std::log(ratio);
+    if (c.stream_ratio) {
+      std::snprintf(stream, sizeof stream, "%.2f", *c.stream_ratio);
+      t.log_stream += std::log(*c.stream_ratio);
       ++t.stream_views;
     }
-    std::fprintf(out, "  %-40s %7.0f %10.0f %10.0f %-9s %7.3g %9.2f %9s %9.3f\n", w->material.c_str(), w->theta_o_deg,
-                 *w->bytes, *best->bytes, best->parameterization.c_str(), best->parameter.value_or(0), single, stream,
-                 best->per_sample_variance > 0 ? w->per_sample_variance / best->per_sample_variance : 0.0);
+    std::fprintf(out, "  %-40s %7.0f %10.0f %10.0f %-9s %7.3g %9.2f %9s %9.3f\n", c.material.c_str(), c.theta_o_deg,
+                 c.warp_bytes, c.dp->bytes.value_or(0), c.dp->parameterization.c_str(), c.dp->parameter.value_or(0),
+                 c.efficiency_ratio, stream, c.variance_ratio.value_or(0));
   }
   int single_wins = 0, stream_wins = 0, counted = 0;
   std::string losses;

@@ -17,6 +17,9 @@
 #pragma once
 
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "sampling_table.h"
@@ -26,7 +29,19 @@ namespace btf::cli {
 void printQuadtreeSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 void printMemoryTargetSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
 void printOwnSamplerSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
-// DP-CDF at no more bytes than the dj-warp row of the same material and view, against it.
+// DP-CDF at no more bytes than the dj-warp row of the same material and view, against it: per
+// dj-warp row, the DP-CDF row of the highest efficiency within the warp's bytes (any epsilon and
+// parameterization; null when none fits) and the ratios.
+struct WarpComparison {
+  std::string material;
+  double theta_o_deg = 0, warp_bytes = 0;
+  const SamplingRow* dp = nullptr;
+  double efficiency_ratio = 0;                        // DP-CDF / warp, single queries
+  std::optional<double> stream_ratio, variance_ratio;  // stream efficiencies; warp's variance / DP-CDF's
+};
+std::vector<WarpComparison> compareWithWarp(const std::vector<SamplingRow>& rows);
 void printWarpSummary(std::FILE* out, const std::vector<SamplingRow>& rows);
+// DIR/warp_comparison.csv: one row per WarpComparison.
+void writeWarpComparisonCsv(const std::filesystem::path& path, const std::vector<WarpComparison>& comparisons);
 
 }  // namespace btf::cli

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <sstream>
 
+#include "bench_summary.h"
 #include "gnuplot_charts.h"
 
 namespace btf::cli {
@@ -200,6 +202,49 @@ std::vector<tools::GnuplotChart> ownCharts(const std::vector<SamplingRow>& rows,
   return charts;
 }
 
+// Per material with a dj-warp row, efficiency relative to the warp (the dashed line at 1) against
+// theta_o: the best DP-CDF within the warp's bytes per single query and in streams (the
+// comparison of printWarpSummary), and the full tabulated sampler per parameterization, which
+// needs more bytes, for scale.
+std::vector<tools::GnuplotChart> warpCharts(const std::vector<SamplingRow>& rows, std::ostringstream& script) {
+  const std::vector<WarpComparison> comparisons = compareWithWarp(rows);
+  std::vector<std::string> materials;
+  for (const WarpComparison& c : comparisons)
+    if (std::find(materials.begin(), materials.end(), c.material) == materials.end()) materials.push_back(c.material);
+  std::vector<tools::GnuplotChart> charts;
+  for (std::size_t mi = 0; mi < materials.size(); ++mi) {
+    RatioSeries series;
+    double warp_bytes = 0;
+    for (const WarpComparison& c : comparisons) {
+      if (c.material != materials[mi]) continue;
+      warp_bytes = c.warp_bytes;
+      if (c.dp) series.add("dp-cdf within the warp's bytes, single", c.theta_o_deg, c.efficiency_ratio);
+      if (c.stream_ratio) series.add("dp-cdf within the warp's bytes, stream", c.theta_o_deg, *c.stream_ratio);
+      for (const SamplingRow& r : rows)
+        if (r.material == c.material && r.theta_o_deg == c.theta_o_deg && r.sampler == "tabulated" && r.bytes) {
+          const auto w = std::find_if(rows.begin(), rows.end(), [&](const SamplingRow& x) {
+            return x.material == c.material && x.theta_o_deg == c.theta_o_deg && x.sampler == "dj-warp";
+          });
+          char name[96];
+          std::snprintf(name, sizeof name, "tabulated %s (%.0f kB)", r.parameterization.c_str(), *r.bytes / 1024);
+          if (w != rows.end() && w->efficiency > 0) series.add(name, r.theta_o_deg, r.efficiency / w->efficiency);
+        }
+    }
+    if (series.empty()) continue;
+    const std::string data = "warp" + std::to_string(mi) + "_";
+    char title[256];
+    std::snprintf(title, sizeof title, "Efficiency relative to the Dupuy-Jakob warp (%.0f kB .bsdf): %s", warp_bytes / 1024,
+                  materials[mi].c_str());
+    std::ostringstream body;
+    body << "set title " << gpQuote(title) << "\n"
+         << "set logscale y\nset xlabel 'theta_o (deg)'\nset ylabel 'efficiency / dj-warp'\nset grid\n"
+         << "set key outside right\nset xrange [-5:90]\n"
+         << "plot 1 with lines dt 2 lc 'black' title 'dj-warp'" << series.plotInto(script, data) << "\n";
+    charts.push_back({chartStem("sampling_vs_warp_", materials[mi]), body.str()});
+  }
+  return charts;
+}
+
 }  // namespace
 
 ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::vector<SamplingRow>& rows) {
@@ -240,6 +285,7 @@ ChartOutcome drawSamplingCharts(const std::filesystem::path& folder, const std::
        }()},
   };
   for (tools::GnuplotChart& c : ownCharts(rows, script)) charts.push_back(std::move(c));
+  for (tools::GnuplotChart& c : warpCharts(rows, script)) charts.push_back(std::move(c));
   const tools::GnuplotOutcome drawn = tools::drawGnuplotCharts(folder, "sampling_charts.gp", script.str(), charts);
   return ChartOutcome{drawn.files, drawn.message};
 }

@@ -7,6 +7,8 @@ Usage:
 RUN_DIR is searched recursively for the files the benches write:
 
     sampling.csv                    btf bench sampling -o DIR
+    warp_comparison.csv             btf bench sampling -o DIR (with the dj-warp sampler)
+    rgl_writer.csv                  btf bench rgl-writer -o DIR
     compression.csv                 btf bench compression -o DIR
     compression_scaling.csv         btf bench compression --scaling -o DIR
     brdf_compression.csv            btf bench compression -o DIR (unless --no-brdfs)
@@ -40,6 +42,19 @@ KNOWN = {
         ["material", "theta_o_deg", "sampler", "parameterization", "parameter", "bytes", "full_cdf_bytes",
          "samples_per_s", "stream_samples_per_s", "chi2_p", "fcos_rel_variance", "efficiency_vs_own",
          "stream_efficiency_vs_own", "acceptance_rate"],
+    ),
+    "warp_comparison.csv": (
+        "Sampling: DP-CDF against the Dupuy–Jakob warp at equal memory",
+        "btf bench sampling --as-tables (with dj-warp)",
+        ["material", "theta_o_deg", "warp_bytes", "dp_cdf_bytes", "dp_cdf_parameterization", "dp_cdf_epsilon",
+         "efficiency_vs_warp", "stream_efficiency_vs_warp", "warp_variance_over_dp_cdf"],
+    ),
+    "rgl_writer.csv": (
+        "RGL writer: what a .bsdf written by virtual acquisition loses",
+        "btf bench rgl-writer",
+        ["material", "bytes", "seconds", "fcos_rel_rmse", "max_albedo_rel_error", "albedo_0", "reference_albedo_0",
+         "albedo_60", "reference_albedo_60", "albedo_75", "reference_albedo_75", "chi2_p_0", "chi2_p_30", "chi2_p_60",
+         "chi2_p_80"],
     ),
     "compression.csv": (
         "Compression: VQ against PCA",
@@ -75,7 +90,7 @@ KNOWN = {
         ["sampler", "spp", "seconds", "relmse", "rel_rmse", "efficiency"],
     ),
 }
-ORDER = ["sampling.csv", "compression.csv", "compression_scaling.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
+ORDER = ["sampling.csv", "warp_comparison.csv", "rgl_writer.csv", "compression.csv", "compression_scaling.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
 MAX_ROWS = 60
 
 

@@ -62,6 +62,23 @@ echo "build/bin/btf bench decode decode/fabric.btfz --samples 65536 --repeats 2 
 nice -n 19 "$bin/btf" bench decode "$out/decode/fabric.btfz" --samples 65536 --repeats 2 --json >"$out/decode/decode.json"
 rm -rf "$out/decode/fabric"
 
+# The RGL writer on its list of materials (GGX, Lambert, Phong, the presets, the shared RGL files).
+run "$bin/btf" bench rgl-writer -o "$out/rgl-writer"
+
+# DP-CDF against the Dupuy-Jakob warp at equal memory, both built from the same MERL-layout table:
+# the presets, the shared RGL files and eight published MERL fits, each tabulated first. The library's
+# default tables (not --quick), since the comparison is at the bytes each sampler needs.
+if [[ -d $data/rgl_bsdf && -d $data/fits ]]; then
+  materials=white-diffuse,matte-clay,satin-paint,plastic-red,glossy-blue-plastic,brushed-metal,rough-gold,chrome
+  for f in "$data"/rgl_bsdf/*.bsdf; do materials+=",$f"; done
+  for m in gold-metallic-paint blue-acrylic chrome alum-bronze blue-fabric black-oxidized-steel dark-red-paint brass; do
+    materials+=",merl-fit:sgd:$m"
+  done
+  run "$bin/btf" bench sampling --as-tables --samplers dp-cdf,dj-warp --materials "$materials" -o "$out/sampling-warp"
+else
+  echo "# btf bench sampling --as-tables (dj-warp) skipped: no $data/rgl_bsdf or $data/fits" >>commands.txt
+fi
+
 if [[ -d $data/fits ]]; then
   run "$bin/btf" bench fits --materials alum-bronze --references sgd --models ggx --objectives log,linear \
     --starts 2 --fits-dir "$data/fits" -o "$out/fits"
