@@ -126,65 +126,63 @@ double samplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint6
   return double(count) / std::max(seconds, 1e-9);
 }
 
-double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
-                              std::uint64_t seed, bool with_eval) {
+namespace {
+
+constexpr std::size_t kStreamBlock = 256;
+
+// Draws per second of `draw_block(u, wi, pdf)` over blocks of kStreamBlock uniform pairs (drawn
+// outside the timed part). With `evaluator`, each block's directions are then evaluated at wo
+// inside the timed part, as a renderer's stream makes the weights' evals: one evalMany per block
+// (a lost draw, wi = 0, evaluates to 0).
+template <class DrawBlock>
+double streamRate(const glm::vec3& wo, std::uint64_t count, std::uint64_t seed, const Material* evaluator,
+                  DrawBlock draw_block) {
   Rng rng(seed, 2);
-  constexpr std::size_t kBlock = 256;
-  const std::vector<glm::vec3> wos(kBlock, wo);
-  std::vector<glm::vec2> u(kBlock);
-  std::vector<BinnedSampler::DirectionSample> out(kBlock);
-  std::vector<glm::vec3> wi(kBlock);
-  std::vector<Rgb> f(kBlock);
+  std::vector<glm::vec2> u(kStreamBlock);
+  std::vector<glm::vec3> wi(kStreamBlock);
+  std::vector<float> pdf(kStreamBlock);
+  std::vector<Rgb> f(kStreamBlock);
   volatile float sink = 0;
   float acc = 0;
   double seconds = 0;
-  for (std::uint64_t done = 0; done < count; done += kBlock) {
-    for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
+  for (std::uint64_t done = 0; done < count; done += kStreamBlock) {
+    for (glm::vec2& v : u) v = rng.uniform2D();
     const auto start = Clock::now();
-    sampler.sampleDirections(wos, u, out);
-    if (with_eval) {
-      // The weights' evals as a renderer's stream would make them: one evalMany per block at its
-      // wo (a lost draw, wi = 0, evaluates to 0).
-      for (std::size_t k = 0; k < kBlock; ++k) wi[k] = out[k].wi;
-      sampler.material().evalMany(wo, wi, f);
+    draw_block(u, wi, pdf);
+    if (evaluator) {
+      evaluator->evalMany(wo, wi, f);
       for (const Rgb& v : f) acc += v.luminance();
     }
     seconds += secondsSince(start);
-    acc += out[done / kBlock % kBlock].pdf;
+    acc += pdf[done / kStreamBlock % kStreamBlock];
   }
   sink = acc;
   (void)sink;
-  return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
+  return double((count + kStreamBlock - 1) / kStreamBlock * kStreamBlock) / std::max(seconds, 1e-9);
+}
+
+}  // namespace
+
+double streamSamplesPerSecond(const BinnedSampler& sampler, const glm::vec3& wo, std::uint64_t count,
+                              std::uint64_t seed, bool with_eval) {
+  const std::vector<glm::vec3> wos(kStreamBlock, wo);
+  std::vector<BinnedSampler::DirectionSample> out(kStreamBlock);
+  return streamRate(wo, count, seed, with_eval ? &sampler.material() : nullptr,
+                    [&](const std::vector<glm::vec2>& u, std::vector<glm::vec3>& wi, std::vector<float>& pdf) {
+                      sampler.sampleDirections(wos, u, out);
+                      for (std::size_t k = 0; k < kStreamBlock; ++k) wi[k] = out[k].wi, pdf[k] = out[k].pdf;
+                    });
 }
 
 double streamSamplesPerSecond(const Material& sampled, const glm::vec3& wo, std::uint64_t count, std::uint64_t seed,
                               bool with_eval) {
-  Rng rng(seed, 2);
-  constexpr std::size_t kBlock = 256;
-  std::vector<glm::vec2> u(kBlock);
-  std::vector<glm::vec3> wi(kBlock);
-  std::vector<float> pdf(kBlock);
-  std::vector<Rgb> f(kBlock);
-  volatile float sink = 0;
-  float acc = 0;
-  double seconds = 0;
-  for (std::uint64_t done = 0; done < count; done += kBlock) {
-    for (glm::vec2& v : u) v = rng.uniform2D();  // outside the timed part
-    const auto start = Clock::now();
-    for (std::size_t k = 0; k < kBlock; ++k) {
-      const auto d = drawDirection(sampled, wo, u[k], pdf[k]);
-      wi[k] = d ? *d : glm::vec3(0.0f);
-    }
-    if (with_eval) {
-      sampled.evalMany(wo, wi, f);
-      for (const Rgb& v : f) acc += v.luminance();
-    }
-    seconds += secondsSince(start);
-    acc += pdf[done / kBlock % kBlock];
-  }
-  sink = acc;
-  (void)sink;
-  return double((count + kBlock - 1) / kBlock * kBlock) / std::max(seconds, 1e-9);
+  return streamRate(wo, count, seed, with_eval ? &sampled : nullptr,
+                    [&](const std::vector<glm::vec2>& u, std::vector<glm::vec3>& wi, std::vector<float>& pdf) {
+                      for (std::size_t k = 0; k < kStreamBlock; ++k) {
+                        const auto d = drawDirection(sampled, wo, u[k], pdf[k]);
+                        wi[k] = d ? *d : glm::vec3(0.0f);
+                      }
+                    });
 }
 
 EfficiencyCeiling efficiencyCeiling(const Material& material, const glm::vec3& wo, std::uint64_t count,
