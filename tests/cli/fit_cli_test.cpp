@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -149,6 +151,38 @@ TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
   r = runBtf({"bench", "fits", "--objectives", "cubic", "-o", (dir / "bad").string()});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("expected log or linear"));
+}
+
+// The report tells the truth: the final solve's convergence, the screening for what it is, the
+// albedo error per angle; a fit that misses the data's energy warns, and --strict refuses it.
+TEST(FitCli, ReportsAlbedoErrorsWarnsAndStrictRefusesAPoorFit) {
+  TempDir dir;
+  const auto table = dir / "plastic.binary", model = dir / "m.json";
+  ASSERT_EQ(runDatagen({"--preset", "plastic-red", "--clean", "-o", table.string()}).exit_code, 0);
+  CommandResult r = runBtf({"fit", table.string(), "--starts", "2", "-o", model.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("final solve converged after"));
+  EXPECT_THAT(r.output, HasSubstr("starts screened (15 iterations on a fifth of the cells)"));
+  EXPECT_THAT(r.output, HasSubstr("fit / data - 1"));
+  r = runBtf({"fit", table.string(), "--starts", "2", "-o", model.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = parseJsonOutput(r);
+  ASSERT_EQ(j["albedo"].size(), 4u);
+  for (const auto& a : j["albedo"]) EXPECT_LT(a["rel_error"].get<double>(), 0.1) << a.dump();
+  EXPECT_TRUE(j["warnings"].empty());
+  EXPECT_TRUE(j.contains("screening_converged"));
+
+  // One iteration cannot converge: the warning says so, and --strict makes it an error.
+  const auto poor = dir / "poor.json";
+  r = runBtf({"fit", table.string(), "--starts", "1", "--iterations", "1", "-o", poor.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("btf: warning: " + table.string() + ": the final solve did not converge"));
+  EXPECT_TRUE(std::filesystem::exists(poor));
+  r = runBtf({"fit", table.string(), "--starts", "1", "--iterations", "1", "-o", (dir / "strict.json").string(),
+              "--strict"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("not good enough (--strict)"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "strict.json"));
 }
 
 TEST(FitCli, BadArgumentsFailNamingTheFileAndWriteNothing) {

@@ -14,6 +14,12 @@
 //                                   sorted by the best other model's error; fits_charts.gp
 //   stdout                          per reference and model: median and 90th percentile of rel_rmse,
 //                                   and in how many materials it beats each of our fits
+// With --tables, the data are measured-style tables instead (a folder of MERL .binary files, e.g.
+// the MERL-like tables of ../shared/tools/nbrdf-to-merl, and any RGL .bsdf files, each tabulated
+// into the MERL layout): the reference is "data", the published fits of a table named after a
+// MERL material are measured beside ours, and each row also holds the largest error of the
+// model's directional albedo (mean of RGB) against the data's at theta_o 0, 30 and 60 deg:
+//   DIR/fits_vs_albedo.png/.svg     per model, rel_rmse against that albedo error per table
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -30,6 +36,9 @@
 #include "btf/fit/analytic_fit.h"
 #include "btf/io/atomic_file.h"
 #include "btf/fit/merl_fits.h"
+#include "btf/core/math.h"
+#include "btf/material/albedo.h"
+#include "btf/material/registry.h"
 #include "btf/material/tabulated_brdf.h"
 #include "comma_list.h"
 #include "gnuplot_charts.h"
@@ -48,6 +57,7 @@ struct Args {
   std::string models = "lafortune,ggx";  // ours; lafortune with one lobe, as Ngan's
   std::string objectives = "log";        // each of our models is fitted with each objective
   std::string fits_dir;
+  std::vector<std::string> tables;  // files or folders of measured-style tables; empty: the published fits' tables
   int starts = 6;
 };
 
@@ -57,6 +67,7 @@ struct Row {
   double rel_rmse = 0;
   bool ours = false, converged = true;
   double seconds = 0;
+  double albedo_error = -1;  // --tables: the largest albedo error at theta_o 0/30/60 (mean of RGB); -1: not measured
 };
 
 // "ours:ggx" for the default (log) objective, "ours:ggx:linear" for the linear one.
@@ -66,10 +77,12 @@ std::string ourName(ModelFamily family, FitObjective objective) {
 
 void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
   writeFileAtomically(path, [&](std::ofstream& out) {
-    out << "material,reference,model,ours,rel_rmse,converged,seconds\n";
-    for (const Row& r : rows)
-      out << r.material << ',' << r.reference << ',' << r.model << ',' << (r.ours ? 1 : 0) << ',' << r.rel_rmse << ','
-          << (r.converged ? 1 : 0) << ',' << r.seconds << '\n';
+    out << "material,reference,model,ours,rel_rmse,albedo_error,converged,seconds\n";
+    for (const Row& r : rows) {
+      out << r.material << ',' << r.reference << ',' << r.model << ',' << (r.ours ? 1 : 0) << ',' << r.rel_rmse << ',';
+      if (r.albedo_error >= 0) out << r.albedo_error;
+      out << ',' << (r.converged ? 1 : 0) << ',' << r.seconds << '\n';
+    }
   });
 }
 
@@ -163,6 +176,141 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Erro
   return tools::drawGnuplotCharts(folder, "fits_charts.gp", data.str(), charts);
 }
 
+// The measured-style tables of --tables: every .binary and .bsdf file named, or found in a named
+// folder, by name.
+std::vector<std::filesystem::path> tableFiles(const std::vector<std::string>& named) {
+  std::vector<std::filesystem::path> files;
+  for (const std::string& n : named) {
+    const std::filesystem::path p(n);
+    if (std::filesystem::is_directory(p)) {
+      std::vector<std::filesystem::path> found;
+      for (const auto& e : std::filesystem::directory_iterator(p))
+        if (e.path().extension() == ".binary" || e.path().extension() == ".bsdf") found.push_back(e.path());
+      std::sort(found.begin(), found.end());
+      if (found.empty()) throw FileError(p, "holds no .binary or .bsdf table");
+      files.insert(files.end(), found.begin(), found.end());
+    } else {
+      requireReadableFile(p);
+      files.push_back(p);
+    }
+  }
+  return files;
+}
+
+// The largest relative error of the model's albedo (mean of RGB) at kAlbedoCheckAnglesDeg.
+double albedoError(const Material& model, const std::vector<Rgb>& data_albedo) {
+  double worst = 0;
+  for (std::size_t k = 0; k < kAlbedoCheckAnglesDeg.size(); ++k) {
+    const Rgb fit = integrateAlbedoHalfVector(model, kAlbedoCheckAnglesDeg[k] * kPi / 180.0f);
+    worst = std::max(worst, albedoCheck(kAlbedoCheckAnglesDeg[k], data_albedo[k], fit).rel_error);
+  }
+  return worst;
+}
+
+void printTableSummary(const std::vector<Row>& rows) {
+  std::map<std::string, std::vector<const Row*>> by_model;
+  for (const Row& r : rows) by_model[r.model].push_back(&r);
+  // The best published rel_rmse per table, for "beats the best published".
+  std::map<std::string, double> best_published;
+  for (const Row& r : rows)
+    if (!r.ours) {
+      auto [it, inserted] = best_published.emplace(r.material, r.rel_rmse);
+      if (!inserted) it->second = std::min(it->second, r.rel_rmse);
+    }
+  std::printf("\nmeasured-style tables: rel_rmse of f cos(theta_i), and the albedo (mean of RGB) against the data's at "
+              "theta_o 0, 30, 60 deg\n");
+  std::printf("  %-22s %7s %8s %8s %18s %22s %9s\n", "model", "tables", "median", "p90", "albedo within 10%",
+              "<= best published", "rel>1");
+  for (const auto& [model, list] : by_model) {
+    std::vector<double> errors;
+    int albedo_ok = 0, beats = 0, compared = 0, above_one = 0;
+    for (const Row* r : list) {
+      errors.push_back(r->rel_rmse);
+      albedo_ok += r->albedo_error >= 0 && r->albedo_error <= kFitAlbedoTolerance;
+      above_one += r->rel_rmse > 1.0;
+      if (const auto it = best_published.find(r->material); r->ours && it != best_published.end()) {
+        ++compared;
+        beats += r->rel_rmse <= it->second;
+      }
+    }
+    char vs[32] = "-";
+    if (compared) std::snprintf(vs, sizeof vs, "%d of %d", beats, compared);
+    std::printf("  %-22s %7zu %8.4f %8.4f %11d of %3zu %22s %9d\n", model.c_str(), list.size(), quantile(errors, 0.5),
+                quantile(errors, 0.9), albedo_ok, list.size(), vs, above_one);
+  }
+}
+
+tools::GnuplotOutcome drawTableChart(const std::filesystem::path& folder, const std::vector<Row>& rows) {
+  std::map<std::string, std::vector<const Row*>> by_model;
+  for (const Row& r : rows) by_model[r.model].push_back(&r);
+  std::ostringstream data, body;
+  body << "set title 'Fits to measured-style tables: shape error against energy error, one point per table'\n"
+       << "set logscale xy\nset xlabel 'largest albedo error at theta_o 0/30/60 deg (|fit / data - 1|)'\n"
+       << "set ylabel 'rel_rmse of f cos(theta_i)'\nset key outside right\n"
+       << "set arrow from 0.1, graph 0 to 0.1, graph 1 nohead dt 2\nplot ";
+  int block = 0;
+  for (const auto& [model, list] : by_model) {
+    data << "$t" << block << " << EOD\n";
+    for (const Row* r : list) data << std::max(r->albedo_error, 1e-4) << ' ' << std::max(r->rel_rmse, 1e-4) << '\n';
+    data << "EOD\n";
+    body << (block ? ", " : "") << "$t" << block << " using 1:2 with points pt 7 ps 0.8 title " << tools::gnuplotQuote(model);
+    ++block;
+  }
+  body << '\n';
+  return tools::drawGnuplotCharts(folder, "fits_vs_albedo.gp", data.str(), {{"fits_vs_albedo", body.str()}});
+}
+
+// --tables: every table fitted by our models, and measured against the published fits of its
+// MERL material where its name is one.
+void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vector<ModelFamily>& ours,
+                          const std::vector<FitObjective>& objectives) {
+  const std::vector<std::filesystem::path> files = tableFiles(args.tables);
+  std::filesystem::create_directories(args.output);
+  std::vector<Row> rows;
+  Progress progress("fitting", files.size());
+  for (const std::filesystem::path& file : files) {
+    const std::string name = file.stem().string();
+    const MerlTable table = materialTable(identifyMaterial(file.string()));
+    const TabulatedBrdf data(std::make_shared<const MerlTable>(table), TableLookup::Interpolated);
+    std::vector<Rgb> data_albedo;
+    for (const float deg : kAlbedoCheckAnglesDeg) data_albedo.push_back(integrateAlbedoHalfVector(data, deg * kPi / 180.0f));
+    std::string merl_name;
+    try {
+      merl_name = fits.resolve(name);
+    } catch (const Error&) {
+    }
+    if (!merl_name.empty() && fits.isMerl(merl_name))
+      for (ModelFamily published : fits.modelsFor(merl_name)) {
+        const auto model = makeMerlFitMaterial(fits, merl_name, published);
+        rows.push_back({name, "data", modelFamilyName(published), tableRelRmse(*model, table), false, true, 0.0,
+                        albedoError(*model, data_albedo)});
+      }
+    for (ModelFamily family : ours)
+      for (FitObjective objective : objectives) {
+        AnalyticFitOptions options;
+        options.family = family;
+        options.starts = args.starts;
+        options.objective = objective;
+        const AnalyticFit fit = fitAnalytic(table, options);
+        rows.push_back({name, "data", ourName(family, objective), fit.report.rel_rmse, true, fit.report.converged,
+                        fit.report.seconds, albedoError(*fit.material, data_albedo)});
+        std::printf("%-28s %-22s rel_rmse %8.4f  albedo error %6.1f%%  %5.1f s%s\n", name.c_str(), rows.back().model.c_str(),
+                    rows.back().rel_rmse, 100.0 * rows.back().albedo_error, rows.back().seconds,
+                    fit.report.converged ? "" : "  (final solve did not converge)");
+        std::fflush(stdout);
+      }
+    progress.advance();
+  }
+  const std::filesystem::path csv = std::filesystem::path(args.output) / "fits.csv";
+  writeCsv(csv, rows);
+  printTableSummary(rows);
+  const tools::GnuplotOutcome chart = drawTableChart(args.output, rows);
+  std::printf("\nwrote %s", csv.string().c_str());
+  for (const auto& f : chart.files) std::printf(", %s", f.filename().c_str());
+  std::printf("\n");
+  if (!chart.message.empty()) std::printf("%s\n", chart.message.c_str());
+}
+
 void runBenchFits(const Args& args) {
   const MerlFits fits = loadMerlFits(args.fits_dir);
   std::vector<std::string> materials;
@@ -178,6 +326,10 @@ void runBenchFits(const Args& args) {
   for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseModelFamily(m, kFittableFamilies));
   std::vector<FitObjective> objectives;
   for (const std::string& o : splitCommaList(args.objectives)) objectives.push_back(parseFitObjective(o));
+  if (!args.tables.empty()) {
+    if (ours.empty() || objectives.empty()) throw Error("bench fits: no models or objectives");
+    return runBenchFitsOnTables(args, fits, ours, objectives);
+  }
   if (materials.empty() || references.empty() || ours.empty() || objectives.empty())
     throw Error("bench fits: no materials, references, models or objectives");
   std::filesystem::create_directories(args.output);
@@ -240,6 +392,10 @@ void addBenchFitsCommand(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--fits-dir", args->fits_dir, "Folder of the published fit tables (default: ../shared/data/real/fits)");
+  cmd->add_option("--tables", args->tables,
+                  "Measured-style tables instead: .binary or .bsdf files, or folders of them (a table named after a MERL "
+                  "material is also measured against its published fits); adds albedo errors and fits_vs_albedo.png")
+      ->delimiter(',');
   cmd->callback([args] { bench_fits::runBenchFits(*args); });
 }
 

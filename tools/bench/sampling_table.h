@@ -2,14 +2,15 @@
 // setting and view theta_o, columns
 //   material, sampler, parameter, bytes, samples_per_s, chi2_statistic, chi2_p, variance, seconds,
 //   efficiency, rel_error_vs_reference, per_sample_variance, full_cdf_bytes, acceptance_rate,
-//   stream_samples_per_s (the tabulated samplers' stream call, sampleDirections; empty for others),
+//   stream_samples_per_s (the tabulated samplers' stream call, sampleDirections; dj-warp's draws one
+//   by one in the same blocks; empty for others),
 //   theta_o_deg, parameterization (incident or half for the tabulated samplers, empty for others),
 //   fcos_rel_variance (fcosRelativeVariance: the sampler's quality without the environment),
 //   efficiency_vs_own (efficiency / the material's own sampler's at the same theta_o),
 //   stream_efficiency_vs_own (the same with the time per draw of the stream call followed by the
 //   material's eval of every drawn direction: the stream returns the direction and its pdf, and a
 //   renderer still needs f for the weight, which the own sampler's sample() includes),
-//   stream_with_eval_per_s (that rate: sampleDirections, then eval per draw; empty for others),
+//   stream_with_eval_per_s (that rate: the draws, then eval per draw; empty for others),
 //   ceiling_vs_own, stream_ceiling_vs_own, proportional_variance_vs_own, eval_env_ns and
 //   draw_budget_ns_2x (the own sampler's rows only, see SamplingRow), ns_per_draw
 // rel_error_vs_reference compares the estimate with the quadrature reference (referenceRadiance);

@@ -8,12 +8,17 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <sstream>
 
 #include "btf/core/error.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/progress.h"
+#include "btf/core/math.h"
+#include "btf/material/albedo.h"
 #include "btf/material/ggx.h"
+#include "btf/material/ggx_two_lobes.h"
+#include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
 #include "fit_models.h"
 
@@ -43,11 +48,52 @@ FitSample makeSample(const glm::vec3& wi, const glm::vec3& wo, const Rgb& f) {
   return s;
 }
 
+// The energy term (analytic_fit.h): at one view angle, the pairs of a half-vector quadrature of
+// the directional albedo, with their weights (solid angle times cos(theta_i)), and the data's albedo
+// by the same quadrature, so that the discretization is the same on both sides.
+struct AlbedoQuadrature {
+  float theta_o_deg = 0;
+  std::vector<FitSample> pairs;
+  std::vector<double> weights;
+  double data[3] = {};
+};
+
 struct SampleSet {
   std::vector<FitSample> samples;
   std::size_t excluded = 0;
   Rgb diffuse_guess;  // pi times the mean f of samples far from the highlight: a start for kd
+  std::vector<AlbedoQuadrature> albedo;  // tables only; empty: no energy term
 };
+
+// theta_h = pi/2 t^2 at kEnergyThetaSteps midpoints in t (dense near the normal, where highlights
+// are), phi_h at kEnergyPhiSteps midpoints over [0, pi] (the models are symmetric about the plane
+// of incidence, so the other half doubles the weight).
+constexpr int kEnergyThetaSteps = 48;
+constexpr int kEnergyPhiSteps = 24;
+
+AlbedoQuadrature albedoQuadrature(const Material& data, float theta_o_deg) {
+  AlbedoQuadrature q;
+  q.theta_o_deg = theta_o_deg;
+  const glm::vec3 wo = sphericalDirection(theta_o_deg * float(fit::kFitPi) / 180.0f, 0.0f);
+  const double dt = 1.0 / kEnergyThetaSteps, dphi = fit::kFitPi / kEnergyPhiSteps;
+  for (int i = 0; i < kEnergyThetaSteps; ++i) {
+    const double t = (i + 0.5) * dt, theta_h = 0.5 * fit::kFitPi * t * t;
+    for (int j = 0; j < kEnergyPhiSteps; ++j) {
+      const glm::vec3 h = sphericalDirection(float(theta_h), float((j + 0.5) * dphi));
+      const float wo_dot_h = glm::dot(wo, h);
+      if (wo_dot_h <= 0.0f) continue;
+      const glm::vec3 wi = 2.0f * wo_dot_h * h - wo;
+      if (wi.z <= 1e-4f) continue;
+      // d(omega_i) cos(theta_i) = 4 (wo.h) sin(theta_h) dtheta_h dphi_h cos(theta_i), dtheta_h = pi t dt.
+      const double w = 2.0 * 4.0 * wo_dot_h * std::sin(theta_h) * fit::kFitPi * t * dt * dphi * wi.z;
+      q.pairs.push_back(fit::geometryOf(wi, wo));
+      q.weights.push_back(w);
+      const Rgb f = data.eval(wi, wo);
+      for (int c = 0; c < 3; ++c) q.data[c] += w * double(std::max(f[c], 0.0f));
+    }
+  }
+  return q;
+}
 
 // Collects the samples of either kind of data, and the diffuse start from those whose half vector
 // lies beyond 40 degrees from the normal.
@@ -141,6 +187,32 @@ struct LinearResidual {
   }
 };
 
+// The energy term of one view angle: (albedo_model,c - albedo_data,c) / max(albedo_data,c, 0.01),
+// times `scale` (analytic_fit.h).
+template <int kChannels, class Eval>
+struct EnergyResidual {
+  const AlbedoQuadrature* quadrature;
+  int channel;
+  double scale;
+  Eval eval;
+  template <class T>
+  bool operator()(const T* p, T* r) const {
+    T sum[kChannels];
+    for (int c = 0; c < kChannels; ++c) sum[c] = T(0);
+    T f[kChannels];
+    for (std::size_t k = 0; k < quadrature->pairs.size(); ++k) {
+      eval(p, quadrature->pairs[k], f);
+      for (int c = 0; c < kChannels; ++c) sum[c] += T(quadrature->weights[k]) * f[c];
+    }
+    for (int c = 0; c < kChannels; ++c) {
+      const double data = quadrature->data[kChannels == 3 ? c : channel];
+      r[c] = T(scale) * (sum[c] - T(data)) / T(std::max(data, kEnergyFloor));
+    }
+    return true;
+  }
+  static constexpr double kEnergyFloor = 0.01;
+};
+
 // Every sample's residual block, of the objective's functor.
 template <template <int, class> class Residual, int kChannels, int kParameters, class Eval>
 void addResiduals(ceres::Problem& problem, const std::vector<FitSample>& samples, int channel, Eval eval,
@@ -155,6 +227,23 @@ struct Bound {
   double lower, upper;
 };
 
+// The energy residuals' scale (analytic_fit.h): so that an albedo off by 10% at every angle costs
+// energy_weight^2 times what the sample residuals cost when each is off by 0.1 of its typical
+// size (0.1 in log space; for the linear objective, 0.1 of the RMS data value), whatever the
+// number of samples: sqrt(samples x channels / energy residuals), times the typical size.
+double energyScale(const std::vector<FitSample>& samples, std::size_t energy_residuals, double energy_weight,
+                   FitObjective objective, int channel, int channels) {
+  double typical = 1.0;
+  if (objective == FitObjective::Linear) {
+    double sum2 = 0;
+    std::size_t n = 0;
+    for (const FitSample& s : samples)
+      for (int c = 0; c < channels; ++c, ++n) sum2 += s.value[channels == 3 ? c : channel] * s.value[channels == 3 ? c : channel];
+    typical = n ? std::sqrt(sum2 / double(n)) : 1.0;
+  }
+  return energy_weight * typical * std::sqrt(double(samples.size() * std::size_t(channels)) / double(energy_residuals));
+}
+
 // One start of one problem: its initial parameters and bounds.
 struct StartResult {
   std::vector<double> parameters;
@@ -162,7 +251,8 @@ struct StartResult {
 };
 
 template <int kChannels, int kParameters, class Eval>
-StartResult solveStart(const std::vector<FitSample>& samples, int channel, Eval eval, std::vector<double> initial,
+StartResult solveStart(const std::vector<FitSample>& samples, const std::vector<AlbedoQuadrature>& albedo,
+                       double energy_weight, int channel, Eval eval, std::vector<double> initial,
                        const std::vector<Bound>& bounds, int max_iterations, FitObjective objective) {
   StartResult result;
   result.parameters = std::move(initial);
@@ -175,6 +265,13 @@ StartResult solveStart(const std::vector<FitSample>& samples, int channel, Eval 
     addResiduals<LinearResidual, kChannels, kParameters>(problem, samples, channel, eval, nullptr, p);
   else
     addResiduals<LogResidual, kChannels, kParameters>(problem, samples, channel, eval, &robust, p);
+  if (energy_weight > 0 && !albedo.empty()) {
+    const double scale = energyScale(samples, albedo.size() * kChannels, energy_weight, objective, channel, kChannels);
+    for (const AlbedoQuadrature& q : albedo)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<EnergyResidual<kChannels, Eval>, kChannels, kParameters>(
+                                   new EnergyResidual<kChannels, Eval>{&q, channel, scale, eval}),
+                               nullptr, p);
+  }
   for (int i = 0; i < kParameters; ++i) {
     problem.SetParameterLowerBound(p, i, bounds[std::size_t(i)].lower);
     problem.SetParameterUpperBound(p, i, bounds[std::size_t(i)].upper);
@@ -198,22 +295,23 @@ constexpr int kScreeningIterations = 15;
 template <int kChannels, int kParameters, class Eval>
 StartResult bestOfStarts(const SampleSet& set, int channel, Eval eval, const std::vector<std::vector<double>>& starts,
                          const std::vector<Bound>& bounds, const AnalyticFitOptions& options, Progress& progress,
-                         int& converged) {
+                         int& screening_converged) {
   std::vector<FitSample> screening;
   for (std::size_t i = 0; i < set.samples.size(); i += kScreeningStride) screening.push_back(set.samples[i]);
   std::vector<StartResult> results(starts.size());
   tbb::parallel_for(std::size_t(0), starts.size(), [&](std::size_t k) {
-    results[k] = solveStart<kChannels, kParameters>(screening, channel, eval, starts[k], bounds,
-                                                    std::min(options.max_iterations, kScreeningIterations), options.objective);
+    results[k] = solveStart<kChannels, kParameters>(screening, set.albedo, options.energy_weight, channel, eval, starts[k],
+                                                    bounds, std::min(options.max_iterations, kScreeningIterations),
+                                                    options.objective);
     progress.advance();
   });
   std::size_t best = 0;
   for (std::size_t k = 0; k < results.size(); ++k) {
-    if (results[k].summary.termination_type == ceres::CONVERGENCE) ++converged;
+    if (results[k].summary.termination_type == ceres::CONVERGENCE) ++screening_converged;
     if (results[k].summary.final_cost < results[best].summary.final_cost) best = k;
   }
-  return solveStart<kChannels, kParameters>(set.samples, channel, eval, results[best].parameters, bounds,
-                                            options.max_iterations, options.objective);
+  return solveStart<kChannels, kParameters>(set.samples, set.albedo, options.energy_weight, channel, eval,
+                                            results[best].parameters, bounds, options.max_iterations, options.objective);
 }
 
 // Evenly spaced in log between lo and hi over the starts (the geometric mean for one start).
@@ -244,12 +342,40 @@ void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval
   std::vector<Bound> bounds(6, Bound{0.0, 1.0});
   bounds.push_back({std::log(1e-3), std::log(2.0)});
   Progress progress("fit", std::uint64_t(options.starts));
-  const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options, progress, report.starts_converged);
+  const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
   out.specular = Rgb(float(p[3]), float(p[4]), float(p[5]));
   out.alpha = float(std::exp(p[6]));
+}
+
+// Two GGX lobes: kd[3], f0[3], ln(alpha), f0_2[3], ln(alpha_2). The starts pair a broad lobe
+// (alpha 0.15 to 0.6) with a narrow one (0.005 to 0.08), the second's strength alternating weak
+// and strong as in fitMicrofacet; the bounds are ggx's for both lobes.
+void fitGgxTwoLobes(const SampleSet& set, const AnalyticFitOptions& options, AnalyticParameters& out,
+                    AnalyticFitReport& report) {
+  auto eval = [](const auto* p, const FitSample& s, auto* f) { fit::evalGgx2(p, s, f); };
+  std::vector<std::vector<double>> starts;
+  for (int k = 0; k < options.starts; ++k) {
+    const Rgb& kd = set.diffuse_guess;
+    const double coat = k % 2 == 0 ? 0.04 : 0.5;
+    starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, 0.05, 0.05, 0.05, logSpread(0.15, 0.6, k, options.starts), coat,
+                      coat, coat, logSpread(0.005, 0.08, k, options.starts)});
+  }
+  std::vector<Bound> bounds(6, Bound{0.0, 1.0});
+  bounds.push_back({std::log(1e-3), std::log(2.0)});
+  for (int c = 0; c < 3; ++c) bounds.push_back({0.0, 1.0});
+  bounds.push_back({std::log(1e-3), std::log(2.0)});
+  Progress progress("fit", std::uint64_t(options.starts));
+  const StartResult best = bestOfStarts<3, 11>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
+  recordStart(report, best, "");
+  const std::vector<double>& p = best.parameters;
+  out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
+  out.specular = Rgb(float(p[3]), float(p[4]), float(p[5]));
+  out.alpha = float(std::exp(p[6]));
+  out.specular_2 = Rgb(float(p[7]), float(p[8]), float(p[9]));
+  out.alpha_2 = float(std::exp(p[10]));
 }
 
 template <int kChannels, int kLobes>
@@ -291,7 +417,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<3, kLobes>(set, 0, k, options.starts));
     Progress progress("fit", std::uint64_t(options.starts));
     const StartResult best = bestOfStarts<3, kParameters>(set, 0, eval, starts, lafortuneBounds<3, kLobes>(),
-                                                          options, progress, report.starts_converged);
+                                                          options, progress, report.screening_converged);
     recordStart(report, best, "");
     const std::vector<double>& p = best.parameters;
     out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
@@ -310,7 +436,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     std::vector<std::vector<double>> starts;
     for (int k = 0; k < options.starts; ++k) starts.push_back(lafortuneStart<1, kLobes>(set, channel, k, options.starts));
     const StartResult best = bestOfStarts<1, kParameters>(set, channel, eval, starts, lafortuneBounds<1, kLobes>(),
-                                                          options, progress, report.starts_converged);
+                                                          options, progress, report.screening_converged);
     recordStart(report, best, std::string("RGB").substr(std::size_t(channel), 1) + ": ");
     const std::vector<double>& p = best.parameters;
     out.diffuse[channel] = float(p[0]);
@@ -326,6 +452,33 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
 
 }  // namespace
 
+AlbedoCheck albedoCheck(float theta_o_deg, const Rgb& data, const Rgb& fit) {
+  AlbedoCheck a{theta_o_deg, data, fit, 0.0};
+  const double d = (double(data.r) + data.g + data.b) / 3.0, f = (double(fit.r) + fit.g + fit.b) / 3.0;
+  a.rel_error = d > 1e-6 ? std::abs(f - d) / d : (f > 1e-6 ? INFINITY : 0.0);
+  return a;
+}
+
+std::vector<std::string> fitWarnings(const AnalyticFitReport& r) {
+  std::vector<std::string> w;
+  char text[200];
+  if (!r.converged) w.push_back("the final solve did not converge within its iterations");
+  if (!(r.rel_rmse <= kFitRelRmseLimit)) {
+    std::snprintf(text, sizeof text, "rel_rmse %.3g is above %g: the model does not follow the data", r.rel_rmse,
+                  kFitRelRmseLimit);
+    w.push_back(text);
+  }
+  for (const AlbedoCheck& a : r.albedo)
+    if (!(a.rel_error <= kFitAlbedoTolerance)) {
+      std::snprintf(text, sizeof text, "albedo at theta_o %g deg is %.4f, the data's %.4f (%+.0f%%; more than %.0f%% off)",
+                    double(a.theta_o_deg), (a.fit.r + a.fit.g + a.fit.b) / 3.0, (a.data.r + a.data.g + a.data.b) / 3.0,
+                    100.0 * ((a.fit.r + a.fit.g + a.fit.b) / std::max(1e-9, double(a.data.r + a.data.g + a.data.b)) - 1.0),
+                    100.0 * kFitAlbedoTolerance);
+      w.push_back(text);
+    }
+  return w;
+}
+
 const char* fitObjectiveName(FitObjective objective) { return objective == FitObjective::Linear ? "linear" : "log"; }
 
 FitObjective parseFitObjective(std::string_view text) {
@@ -337,6 +490,7 @@ FitObjective parseFitObjective(std::string_view text) {
 std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& p) {
   switch (p.family) {
     case ModelFamily::Ggx: return std::make_unique<Ggx>(p.diffuse, p.specular, p.alpha, p.alpha);
+    case ModelFamily::Ggx2: return std::make_unique<GgxTwoLobes>(p.diffuse, p.specular, p.alpha, p.specular_2, p.alpha_2);
     case ModelFamily::Ward: return std::make_unique<Ward>(p.diffuse, p.specular, p.alpha, p.alpha);
     case ModelFamily::Lafortune: return std::make_unique<Lafortune>(p.diffuse, p.lobes);
     default: break;
@@ -363,6 +517,7 @@ AnalyticFit fitSamples(const SampleSet& all, const AnalyticFitOptions& options) 
   if (options.objective == FitObjective::Linear) {
     within.diffuse_guess = all.diffuse_guess;
     within.excluded = all.excluded;
+    within.albedo = all.albedo;
     for (const FitSample& s : all.samples)
       if (s.cos_i >= double(kCos80) && s.cos_o >= double(kCos80)) within.samples.push_back(s);
     if (within.samples.size() < kMinimumFitSamples)
@@ -386,6 +541,7 @@ AnalyticFit fitSamples(const SampleSet& all, const AnalyticFitOptions& options) 
       fitMicrofacet(set, options, [](const auto* p, const FitSample& s, auto* f) { fit::evalWard(p, s, f); }, 0.05,
                     fit.parameters, report);
       break;
+    case ModelFamily::Ggx2: fitGgxTwoLobes(set, options, fit.parameters, report); break;
     case ModelFamily::Lafortune:
       if (options.lobes == 1) fitLafortune<1>(set, options, fit.parameters, report);
       else if (options.lobes == 2) fitLafortune<2>(set, options, fit.parameters, report);
@@ -406,12 +562,21 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
   checkOptions(options);
   const auto start_time = std::chrono::steady_clock::now();
-  const SampleSet set = sampleTable(table);
+  SampleSet set = sampleTable(table);
   if (set.samples.size() < 100)
     throw Error("fit: the table has only " + std::to_string(set.samples.size()) +
                 " measured cells above the horizon on the fitting grid (100 or more needed)");
+  const TabulatedBrdf data(std::make_shared<const MerlTable>(table), TableLookup::Interpolated);
+  if (options.energy_weight > 0)
+    for (const float deg : kEnergyAnglesDeg) set.albedo.push_back(albedoQuadrature(data, deg));
   AnalyticFit fit = fitSamples(set, options);
   fit.report.rel_rmse = tableRelRmse(*fit.material, table);
+  for (const float deg : kAlbedoCheckAnglesDeg) {
+    const float theta = deg * float(fit::kFitPi) / 180.0f;
+    fit.report.albedo.push_back(albedoCheck(deg, integrateAlbedoHalfVector(data, theta),
+                                            integrateAlbedoHalfVector(*fit.material, theta)));
+  }
+  fit.report.warnings = fitWarnings(fit.report);
   fit.report.seconds = secondsSince(start_time);
   return fit;
 }
@@ -426,6 +591,7 @@ AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const Analyti
                 std::to_string(kMinimumFitSamples) + " or more needed");
   AnalyticFit fit = fitSamples(set, options);
   fit.report.rel_rmse = measuredRelRmse(*fit.material, data);
+  fit.report.warnings = fitWarnings(fit.report);
   fit.report.seconds = secondsSince(start_time);
   return fit;
 }

@@ -53,12 +53,21 @@ class FitReader {
   const std::filesystem::path& path_;
 };
 
+// The report's albedo checks, informative.
+json albedoJson(const std::vector<AlbedoCheck>& checks) {
+  json a = json::array();
+  for (const AlbedoCheck& c : checks)
+    a.push_back({{"theta_o_deg", c.theta_o_deg}, {"data", rgbJson(c.data)}, {"fit", rgbJson(c.fit)}, {"rel_error", c.rel_error}});
+  return a;
+}
+
 }  // namespace
 
 void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, const std::string& source) {
   const AnalyticParameters& p = fit.parameters;
   // What is written is finite (a fit that diverged is an error, not a file).
-  bool finite = p.diffuse.isFinite() && p.specular.isFinite() && std::isfinite(p.alpha);
+  bool finite = p.diffuse.isFinite() && p.specular.isFinite() && std::isfinite(p.alpha) && p.specular_2.isFinite() &&
+                std::isfinite(p.alpha_2);
   for (const LafortuneLobe& lobe : p.lobes)
     finite = finite && lobe.rho.isFinite() && std::isfinite(lobe.c.x) && std::isfinite(lobe.c.y) &&
              std::isfinite(lobe.c.z) && std::isfinite(lobe.exponent);
@@ -68,6 +77,12 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
     case ModelFamily::Ggx:
       parameters["f0"] = rgbJson(p.specular);
       parameters["alpha"] = p.alpha;
+      break;
+    case ModelFamily::Ggx2:
+      parameters["f0"] = rgbJson(p.specular);
+      parameters["alpha"] = p.alpha;
+      parameters["f0_2"] = rgbJson(p.specular_2);
+      parameters["alpha_2"] = p.alpha_2;
       break;
     case ModelFamily::Ward:
       parameters["specular"] = rgbJson(p.specular);
@@ -95,10 +110,12 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
                       {"samples", r.samples},
                       {"excluded", r.excluded},
                       {"starts", r.starts},
-                      {"starts_converged", r.starts_converged},
+                      {"screening_converged", r.screening_converged},
                       {"iterations", r.iterations},
                       {"seconds", r.seconds},
-                      {"ceres", r.ceres_report}}}};
+                      {"ceres", r.ceres_report},
+                      {"albedo", albedoJson(r.albedo)},
+                      {"warnings", r.warnings}}}};
   writeFileAtomically(path, [&](std::ofstream& out) { out << doc.dump(2) << '\n'; });
 }
 
@@ -133,6 +150,13 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
       r.allowOnly(q, {"diffuse", "f0", "alpha"}, "/parameters");
       p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
       p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
+      break;
+    case ModelFamily::Ggx2:
+      r.allowOnly(q, {"diffuse", "f0", "alpha", "f0_2", "alpha_2"}, "/parameters");
+      p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
+      p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
+      p.specular_2 = r.rgb(r.member(q, "f0_2", "/parameters"), "/parameters/f0_2", 1);
+      p.alpha_2 = r.number(r.member(q, "alpha_2", "/parameters"), "/parameters/alpha_2", 1e-6, 1e3);
       break;
     case ModelFamily::Ward:
       r.allowOnly(q, {"diffuse", "specular", "alpha"}, "/parameters");

@@ -75,6 +75,17 @@ void evalGgx(const T* p, const FitSample& s, T* f) {
   }
 }
 
+// Parameters: kd[3], f0[3], ln(alpha), f0_2[3], ln(alpha_2): evalGgx plus a second GGX lobe
+// without a diffuse term (material/ggx_two_lobes.h).
+template <class T>
+void evalGgx2(const T* p, const FitSample& s, T* f) {
+  evalGgx(p, s, f);
+  T second[7] = {T(0), T(0), T(0), p[7], p[8], p[9], p[10]};
+  T g[3];
+  evalGgx(second, s, g);
+  for (int c = 0; c < 3; ++c) f[c] += g[c];
+}
+
 // Parameters: kd[3], ks[3], ln(alpha).
 template <class T>
 void evalWard(const T* p, const FitSample& s, T* f) {

@@ -15,6 +15,7 @@ const char* modelFamilyName(ModelFamily family) {
     case ModelFamily::Lafortune: return "lafortune";
     case ModelFamily::Sgd: return "sgd";
     case ModelFamily::Abc: return "abc";
+    case ModelFamily::Ggx2: return "ggx2";
   }
   return "unknown";
 }

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -37,7 +38,8 @@ struct FitCommandOptions {
   std::string in, out, model = "ggx", objective = "log";
   std::vector<int> texel;  // empty, or x and y
   int lobes = 1, starts = 6, iterations = 100;
-  bool per_channel = false, json = false;
+  bool per_channel = false, json = false, strict = false, no_energy = false;
+  double energy_weight = 1.0;
 };
 
 std::string rgbText(const Rgb& c) {
@@ -48,7 +50,10 @@ std::string rgbText(const Rgb& c) {
 
 std::string parameterText(const AnalyticParameters& p) {
   std::string text = "diffuse " + rgbText(p.diffuse);
-  if (p.family == ModelFamily::Ggx) text += ", f0 " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Ggx || p.family == ModelFamily::Ggx2)
+    text += ", f0 " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Ggx2)
+    text += ", second lobe f0 " + rgbText(p.specular_2) + ", alpha " + std::to_string(p.alpha_2);
   if (p.family == ModelFamily::Ward) text += ", specular " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
   for (const LafortuneLobe& l : p.lobes) {
     char lobe[160];
@@ -110,9 +115,10 @@ void runFit(const FitCommandOptions& o) {
   options.max_iterations = o.iterations;
   options.objective = parseFitObjective(o.objective);
   if (std::filesystem::path(o.out).extension() != ".json") throw FileError(o.out, "the fit is written as JSON: give a .json name");
+  if (o.no_energy) options.energy_weight = 0;
+  else options.energy_weight = o.energy_weight;
   const FitData d = loadFitData(o);
-  const AnalyticFit fit = d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
-  writeFitFile(o.out, fit, d.description);
+  AnalyticFit fit = d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
 
   nlohmann::json albedo = nlohmann::json::array();
   for (float deg : kAlbedoAnglesDeg) {
@@ -127,15 +133,30 @@ void runFit(const FitCommandOptions& o) {
                                  : integrateAlbedoHalfVector(*d.data, theta);
       data = {a_data.r, a_data.g, a_data.b};
     }
-    albedo.push_back({{"theta_o_deg", deg}, {"data", data}, {"fit", {a_fit.r, a_fit.g, a_fit.b}}});
+    nlohmann::json error = nullptr;
+    if (!data.is_null()) {
+      const AlbedoCheck check = albedoCheck(deg, Rgb(data[0].get<float>(), data[1].get<float>(), data[2].get<float>()), a_fit);
+      error = check.rel_error;
+      // A BTF texel's albedo checks are the command's (the library's report has them for tables).
+      if (d.views && std::find(kAlbedoCheckAnglesDeg.begin(), kAlbedoCheckAnglesDeg.end(), deg) != kAlbedoCheckAnglesDeg.end())
+        fit.report.albedo.push_back(check);
+    }
+    albedo.push_back({{"theta_o_deg", deg}, {"data", data}, {"fit", {a_fit.r, a_fit.g, a_fit.b}}, {"rel_error", error}});
   }
+  if (d.views) fit.report.warnings = fitWarnings(fit.report);
   const AnalyticFitReport& r = fit.report;
+  if (o.strict && !r.warnings.empty()) {
+    std::string all;
+    for (const std::string& w : r.warnings) all += (all.empty() ? "" : "; ") + w;
+    throw FileError(o.in, "the fit is not good enough (--strict): " + all + "; nothing was written");
+  }
+  writeFitFile(o.out, fit, d.description);
   if (o.json) {
     std::cout << nlohmann::json{{"file", o.in},   {"data", d.description}, {"output", o.out}, {"model", o.model}, {"objective", o.objective},
                                 {"rel_rmse", r.rel_rmse}, {"converged", r.converged}, {"starts", r.starts},
-                                {"starts_converged", r.starts_converged}, {"iterations", r.iterations},
+                                {"screening_converged", r.screening_converged}, {"iterations", r.iterations},
                                 {"samples", r.samples}, {"excluded", r.excluded}, {"seconds", r.seconds},
-                                {"albedo", albedo}}
+                                {"energy_weight", options.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings}}
                      .dump(2)
               << '\n';
     return;
@@ -143,8 +164,12 @@ void runFit(const FitCommandOptions& o) {
   std::printf("%s fitted to %s, %s objective: %zu %s (%zu unmeasured or below the horizon, left out)\n",
               fit.material->name().c_str(), d.description.c_str(), o.objective.c_str(), r.samples, d.table ? "cells of the fitting grid" : "measurements", r.excluded);
   std::printf("  %s\n", parameterText(fit.parameters).c_str());
-  std::printf("  %s after %d iterations (%d of %d starts converged), %.1f s\n",
-              r.converged ? "converged" : "NOT converged", r.iterations, r.starts_converged, r.starts, r.seconds);
+  std::printf("  final solve %s after %d iterations, %.1f s; %d starts screened (15 iterations on a fifth of the %s), "
+              "%d of them converged there\n",
+              r.converged ? "converged" : "did NOT converge", r.iterations, r.seconds, r.starts,
+              d.table ? "cells" : "measurements", r.screening_converged);
+  if (options.energy_weight > 0 && d.table)
+    std::printf("  energy term: albedo at theta_o 0/20/40/60/75 deg held to the data's, weight %g\n", options.energy_weight);
   std::printf("  rel_rmse of f cos(theta_i) over the %s: %.4f\n", d.table ? "table" : "measurements", r.rel_rmse);
   std::printf("  albedo (mean of RGB)  ");
   for (float deg : kAlbedoAnglesDeg) std::printf("  %5.0f deg", double(deg));
@@ -157,10 +182,19 @@ void runFit(const FitCommandOptions& o) {
     }
     std::printf("\n");
   }
+  std::printf("    %-19s", "fit / data - 1");
+  for (const auto& a : albedo) {
+    if (a["rel_error"].is_null()) std::printf("  %9s", "n/a");
+    else {
+      const double data = a["data"][0].get<double>() + a["data"][1].get<double>() + a["data"][2].get<double>();
+      const double fitted = a["fit"][0].get<double>() + a["fit"][1].get<double>() + a["fit"][2].get<double>();
+      std::printf("  %+8.1f%%", data > 0 ? 100.0 * (fitted / data - 1.0) : 0.0);
+    }
+  }
+  std::printf("\n");
   std::printf("wrote %s\n", o.out.c_str());
-  if (!r.converged)
-    std::fprintf(stderr, "btf: warning: the fit did not converge within %d iterations; Ceres says:\n%s\n", o.iterations,
-                 r.ceres_report.c_str());
+  for (const std::string& w : r.warnings) std::fprintf(stderr, "btf: warning: %s: %s\n", o.in.c_str(), w.c_str());
+  if (!r.converged) std::fprintf(stderr, "btf: the final solve's Ceres report:\n%s\n", r.ceres_report.c_str());
 }
 
 }  // namespace
@@ -168,13 +202,15 @@ void runFit(const FitCommandOptions& o) {
 void registerFitCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "fit",
-      "Fit an analytic model (ggx, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
+      "Fit an analytic model (ggx, ggx2, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
       "ln(1 + f cos theta_i) (or, --objective linear, least squares of f cos theta_i: the rel_rmse itself), unmeasured cells left out. Writes the model as JSON, usable as a material by info, eval, plot, "
       "sample and in scenes ({\"type\": \"fitted\", \"file\": ...})");
   auto o = std::make_shared<FitCommandOptions>();
   cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack, .bsdf, .octree) or BTF (image folder, .btfz)")->required();
   cmd->add_option("-o,--output", o->out, "The fitted model (.json), written atomically")->required();
-  cmd->add_option("--model", o->model, "ggx, ward or lafortune")->check(CLI::IsMember({"ggx", "ward", "lafortune"}))->capture_default_str();
+  cmd->add_option("--model", o->model, "ggx, ggx2 (two GGX lobes over the diffuse term), ward or lafortune")
+      ->check(CLI::IsMember({"ggx", "ggx2", "ward", "lafortune"}))
+      ->capture_default_str();
   cmd->add_option("--lobes", o->lobes, "Lafortune lobes (1-3)")->check(CLI::Range(1, 3))->capture_default_str();
   cmd->add_option("--texel", o->texel, "BTF: fit texel X,Y (default: the mean over all texels)")
       ->delimiter(',')
@@ -187,7 +223,15 @@ void registerFitCommand(CLI::App& app) {
   cmd->add_flag("--per-channel", o->per_channel, "Lafortune: each channel its own lobes (else shared lobes, RGB weights)");
   cmd->add_option("--starts", o->starts, "Initial guesses spread over the shape parameters")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--iterations", o->iterations, "Levenberg-Marquardt iterations per start")->check(CLI::Range(1, 10000))->capture_default_str();
-  cmd->add_flag("--json", o->json, "Print the report as JSON");
+  cmd->add_flag("--json", o->json, "Print the report as JSON (albedo and its error per angle, warnings)");
+  cmd->add_flag("--strict", o->strict,
+                "Make the warnings errors: an albedo more than 10% off the data's at theta_o 0, 30 or 60 deg, rel_rmse above 1, "
+                "or a final solve that did not converge; nothing is written then");
+  cmd->add_option("--energy-weight", o->energy_weight,
+                  "Weight of the energy term, which holds the fit's albedo at theta_o 0-75 deg to the data's (tables)")
+      ->check(CLI::Range(0.0, 1e3))
+      ->capture_default_str();
+  cmd->add_flag("--no-energy", o->no_energy, "Leave the energy term out (the objective alone)");
   cmd->callback([o] { runFit(*o); });
 }
 

@@ -21,11 +21,28 @@
 //
 // The models and their parameters (isotropic, like the tables):
 //   ggx        diffuse kd (RGB), f0 (RGB), alpha            material/ggx.h
+//   ggx2       ggx's, plus a second GGX lobe f0_2 (RGB), alpha_2 (no diffuse term of its own)
+//                                                           material/ggx_two_lobes.h
 //   ward       diffuse kd (RGB), specular ks (RGB), alpha   material/ward.h
 //   lafortune  diffuse kd (RGB), per lobe rho (RGB), c = (cxy, cxy, cz), exponent n
 //              (1 to 3 lobes; shared lobe shapes with RGB weights, or each channel its own)
 // Bounds: albedos in [0, 1]; alpha in [1e-3, 2]; n in [1, 1e5]; c on the unit circle of (cxy, cz)
 // (only its direction matters in this normalization of the model).
+//
+// The energy term (tables only). Neither objective sees the material's energy: the log objective
+// compresses the highlight, so a fit may trade a dim, wide lobe for a bright, narrow one (2.4x the
+// data's albedo on metallic paints), and the linear one may put all the energy in a diffuse term.
+// So each fit also minimizes, at the view angles kEnergyAnglesDeg, the relative difference of the
+// model's directional albedo from the data's, per channel,
+//   e_ac = s (A_model,c(theta_a) - A_data,c(theta_a)) / max(A_data,c(theta_a), 0.01),
+// both albedos by the same half-vector quadrature (48 x 24 pairs per angle, dense near the mirror
+// direction) of the data's interpolated lookup and of the model, so that the discretization cancels.
+// A penalty rather than a constraint: a model that cannot match both the shape and the energy
+// settles between them, and the report says how far each is off. s = energy_weight times
+// sqrt(samples x channels / energy residuals) times the residuals' typical size (1 in log space;
+// the RMS data value for the linear objective): an albedo 10% off at every angle then costs what
+// every sample 0.1 off does, whatever the number of samples. Scattered data (a BTF texel) has no
+// albedo quadrature and takes no energy term.
 #pragma once
 
 #include <array>
@@ -47,7 +64,8 @@
 namespace btf {
 
 // The families the fitter knows (btf/material/model_family.h names them).
-inline constexpr std::array<ModelFamily, 3> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward};
+inline constexpr std::array<ModelFamily, 4> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward,
+                                                                 ModelFamily::Ggx2};
 // The residuals minimized (see above): log-compressed and robust, or linear (the measure itself).
 enum class FitObjective { Log, Linear };
 
@@ -66,33 +84,59 @@ struct AnalyticFitOptions {
   int starts = 6;            // initial guesses, spread over the shape parameters (>= 1)
   int max_iterations = 100;  // per start
   FitObjective objective = FitObjective::Log;
+  double energy_weight = 1.0;  // the energy term's weight (above); 0 leaves it out
 };
+
+// The view angles of the energy term, and those the report checks the albedo at.
+inline constexpr std::array<float, 5> kEnergyAnglesDeg = {0.0f, 20.0f, 40.0f, 60.0f, 75.0f};
+inline constexpr std::array<float, 3> kAlbedoCheckAnglesDeg = {0.0f, 30.0f, 60.0f};
+// A fit is reported with a warning when its albedo (mean of RGB) misses the data's by more than
+// this fraction at any of kAlbedoCheckAnglesDeg, or when its rel_rmse exceeds kFitRelRmseLimit.
+inline constexpr double kFitAlbedoTolerance = 0.10;
+inline constexpr double kFitRelRmseLimit = 1.0;
+
+// The directional albedo of the fit against the data's at one view angle.
+struct AlbedoCheck {
+  float theta_o_deg = 0;
+  Rgb data, fit;
+  double rel_error = 0;  // |mean(fit) - mean(data)| / mean(data), means over RGB
+};
+AlbedoCheck albedoCheck(float theta_o_deg, const Rgb& data, const Rgb& fit);
 
 // The fitted parameters; which are used depends on the family.
 struct AnalyticParameters {
   ModelFamily family = ModelFamily::Ggx;
   Rgb diffuse;                        // kd, every family
-  Rgb specular;                       // f0 (ggx) or ks (ward)
-  float alpha = 0;                    // ggx, ward
+  Rgb specular;                       // f0 (ggx, ggx2) or ks (ward)
+  float alpha = 0;                    // ggx, ggx2, ward
   std::vector<LafortuneLobe> lobes;   // lafortune
+  Rgb specular_2 = {};                // ggx2: the second lobe's f0
+  float alpha_2 = 0;                  // ggx2: the second lobe's alpha
 };
 
-// The Material of a parameter set (a Ggx, Ward or Lafortune). Throws btf::Error for parameters
+// The Material of a parameter set (a Ggx, GgxTwoLobes, Ward or Lafortune). Throws btf::Error for parameters
 // the model refuses.
 std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& parameters);
 
 struct AnalyticFitReport {
-  bool converged = false;      // Ceres ended on its convergence tolerances for the chosen start
-  int starts = 0;              // starts tried
-  int starts_converged = 0;    // starts that converged in the screening stage (see analytic_fit.cpp)
-  int iterations = 0;          // of the chosen start on all samples, after its screening
+  bool converged = false;      // the final solve (the chosen start on all samples) ended on Ceres' convergence tolerances
+  int starts = 0;              // starts screened
+  int screening_converged = 0; // starts whose screening run (15 iterations on every 5th sample) already converged
+  int iterations = 0;          // of the final solve
   double cost = 0;             // the objective above at the chosen start's end
   std::size_t samples = 0;     // cells in the objective
   std::size_t excluded = 0;    // cells of the sampling grid left out (unmeasured or below the horizon)
   double rel_rmse = 0;         // tableRelRmse of the fit
   double seconds = 0;          // wall time of the fit
   std::string ceres_report;    // Ceres' BriefReport of the chosen start (per channel: three lines)
+  std::vector<AlbedoCheck> albedo;    // tables: at kAlbedoCheckAnglesDeg (scattered data: empty)
+  std::vector<std::string> warnings;  // fitWarnings of this report
 };
+
+// What is wrong with a fit, one line each: a final solve that did not converge, rel_rmse above
+// kFitRelRmseLimit, an albedo off by more than kFitAlbedoTolerance (`btf fit` prints them, and
+// --strict makes them an error).
+std::vector<std::string> fitWarnings(const AnalyticFitReport& report);
 
 struct AnalyticFit {
   AnalyticParameters parameters;

@@ -1,12 +1,14 @@
 // The JSON file of a fitted analytic model (`btf fit -o params.json`), usable as a material
 // anywhere a file is (`btf info/eval/plot/sample`, {"type": "fitted", "file": ...} in a scene):
-//   {"format": "libbtf-fit", "version": 1, "model": "ggx" | "ward" | "lafortune",
+//   {"format": "libbtf-fit", "version": 1, "model": "ggx" | "ggx2" | "ward" | "lafortune",
 //    "parameters": {"diffuse": [r, g, b], "f0": [r, g, b], "alpha": a}             (ggx)
+//                  {ggx's, "f0_2": [r, g, b], "alpha_2": a}                        (ggx2)
 //                  {"diffuse": [...], "specular": [...], "alpha": a}               (ward)
 //                  {"diffuse": [...], "lobes": [{"rho": [...], "c": [cx, cy, cz],
 //                                                "exponent": n}, ...]}             (lafortune)
 //    "fit": {"source", "rel_rmse", "converged", "cost", "samples", "excluded", "starts",
-//            "starts_converged", "iterations", "seconds", "ceres"}}               (informative)
+//            "screening_converged", "iterations", "seconds", "ceres", "albedo": [{"theta_o_deg",
+//            "data", "fit", "rel_error"}, ...], "warnings": [...]}}               (informative)
 // The parameter keys are those of the same models written inline in a scene.
 #pragma once
 

@@ -10,9 +10,9 @@
 
 namespace btf {
 
-enum class ModelFamily { Lambert, Phong, Ggx, Ward, Lafortune, Sgd, Abc };
+enum class ModelFamily { Lambert, Phong, Ggx, Ward, Lafortune, Sgd, Abc, Ggx2 };
 
-// "lambert", "phong", "ggx", "ward", "lafortune", "sgd", "abc".
+// "lambert", "phong", "ggx", "ward", "lafortune", "sgd", "abc", "ggx2" (two GGX lobes).
 const char* modelFamilyName(ModelFamily family);
 // The family of that name among `allowed`; throws btf::Error naming the allowed ones.
 ModelFamily parseModelFamily(std::string_view text, std::span<const ModelFamily> allowed);
