@@ -15,7 +15,9 @@
 #include "btf/fit/analytic_fit.h"
 #include "btf/fit/fit_file.h"
 #include "btf/fit/merl_fits.h"
+#include "btf/material/abc.h"
 #include "btf/material/ggx.h"
+#include "btf/material/ggx_two_lobes.h"
 #include "btf/material/lafortune.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
@@ -70,6 +72,20 @@ TEST(AnalyticFit, FitterFormulasMatchTheMaterials) {
       const Lafortune material(Rgb(0.1f, 0.2f, 0.3f), {{Rgb(0.3f, 0.2f, 0.1f), c(beta0), float(n0)},
                                                        {Rgb(0.05f, 0.1f, 0.15f), c(beta1), float(n1)}});
       expectClose(f, material.eval(wi, wo), "lafortune");
+    }
+    {
+      const double p[11] = {0.2, 0.5, 0.7, 0.04, 0.3, 0.9, std::log(alpha), 0.6, 0.5, 0.4, std::log(0.03)};
+      double f[3];
+      fit::evalGgx2(p, s, f);
+      expectClose(f, GgxTwoLobes(Rgb(0.2f, 0.5f, 0.7f), Rgb(0.04f, 0.3f, 0.9f), float(alpha), Rgb(0.6f, 0.5f, 0.4f), 0.03f).eval(wi, wo),
+                  "ggx2");
+    }
+    {
+      const double p[9] = {0.02, 0.03, 0.04, std::log(51.7), std::log(37.9), std::log(27.4), std::log(10482.1), 0.8167, 2.2365};
+      double f[3];
+      fit::evalAbc(p, s, f);
+      expectClose(f, Abc(AbcParameters{Rgb(0.02f, 0.03f, 0.04f), Rgb(51.7f, 37.9f, 27.4f), 10482.1, 0.8167, 2.2365}).eval(wi, wo),
+                  "abc");
     }
   }
 }
@@ -263,6 +279,24 @@ BTF_SLOW_TEST(AnalyticFit, TheEnergyTermHoldsTheAlbedoOfAMetallicPaint) {
   EXPECT_GT(worst_free, 2 * worst_held);
 }
 
+// ABC is fittable: the published ABC fit of alum-bronze, tabulated, gives its parameters back, so
+// `btf fit --model abc` compares with the literature on the literature's own model.
+BTF_SLOW_TEST(AnalyticFit, RecoversThePublishedAbcFitFromItsTable) {
+  const MerlFits fits = MerlFits::load(test::fitsDir());
+  const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "alum-bronze", ModelFamily::Abc));
+  AnalyticFitOptions options;
+  options.family = ModelFamily::Abc;
+  options.starts = 2;
+  const AnalyticFit fit = fitAnalytic(table, options);
+  const AbcFit* published = fits.findAbc("alum-bronze");
+  ASSERT_NE(published, nullptr);
+  EXPECT_LT(fit.report.rel_rmse, 0.01);
+  EXPECT_NEAR(fit.parameters.abc_c, published->parameters.c, 0.02 * published->parameters.c);
+  EXPECT_NEAR(fit.parameters.abc_b, published->parameters.b, 0.02 * published->parameters.b);
+  EXPECT_NEAR(fit.parameters.abc_ior, published->parameters.ior, 0.02 * published->parameters.ior);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.parameters.specular[c], published->parameters.a[c], 0.02f * published->parameters.a[c]) << c;
+}
+
 TEST(AnalyticFit, WarningsNameWhatIsWrong) {
   AnalyticFitReport r;
   r.converged = true;
@@ -304,12 +338,13 @@ TEST(AnalyticFitFile, RoundTripsEveryModel) {
   test::TempDir dir;
   AnalyticFit fit;
   fit.report.rel_rmse = 0.25;
-  std::vector<AnalyticParameters> models(4);
+  std::vector<AnalyticParameters> models(5);
   models[0] = {ModelFamily::Ggx, Rgb(0.1f, 0.2f, 0.3f), Rgb(0.04f, 0.5f, 1.0f), 0.123456f, {}};
   models[1] = {ModelFamily::Ward, Rgb(0.3f, 0.2f, 0.1f), Rgb(0.7f, 0.01f, 0.02f), 0.0345f, {}};
   models[2] = {ModelFamily::Lafortune, Rgb(0.05f), Rgb(), 0.0f,
                {{Rgb(0.3f, 0.2f, 0.1f), glm::vec3(-0.7f, -0.7f, 0.71f), 37.5f}, {Rgb(0.0f, 0.0f, 0.2f), glm::vec3(0.9f, 0.9f, 0.4f), 3.25f}}};
   models[3] = {ModelFamily::Ggx2, Rgb(0.1f, 0.2f, 0.3f), Rgb(0.04f, 0.5f, 1.0f), 0.31f, {}, Rgb(0.9f, 0.8f, 0.7f), 0.0123f};
+  models[4] = {ModelFamily::Abc, Rgb(0.02f, 0.03f, 0.04f), Rgb(51.7f, 37.9f, 27.4f), 0.0f, {}, {}, 0.0f, 10482.1, 0.8167, 2.2365};
   for (const AnalyticParameters& p : models) {
     fit.parameters = p;
     const fs::path path = dir / (std::string(modelFamilyName(p.family)) + ".json");
@@ -343,7 +378,7 @@ TEST(AnalyticFitFile, ErrorsNameTheFileAndTheKey) {
   expectError("{", "malformed JSON");
   expectError(R"({"format": "scene", "version": 1})", "/format");
   expectError(R"({"format": "libbtf-fit", "version": 2})", "/version: 2");
-  expectError(head + R"("model": "phong", "parameters": {}})", "unknown model 'phong' (expected lafortune, ggx, ward or ggx2)");
+  expectError(head + R"("model": "phong", "parameters": {}})", "unknown model 'phong' (expected lafortune, ggx, ward, ggx2 or abc)");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0]}})", "missing \"alpha\"");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0], "alpha": -1}})",
               "/parameters/alpha");

@@ -9,12 +9,14 @@
 #include <cmath>
 #include <limits>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "btf/core/error.h"
 #include "btf/core/half_diff.h"
 #include "btf/core/progress.h"
 #include "btf/core/math.h"
+#include "btf/material/abc.h"
 #include "btf/material/albedo.h"
 #include "btf/material/ggx.h"
 #include "btf/material/ggx_two_lobes.h"
@@ -378,6 +380,32 @@ void fitGgxTwoLobes(const SampleSet& set, const AnalyticFitOptions& options, Ana
   out.alpha_2 = float(std::exp(p[10]));
 }
 
+// ABC: kd[3], ln A[3], ln B, C, ior. The starts spread B (the peak's sharpness) over the range of
+// the published fits, with A and C in their middle and the ior of glass.
+void fitAbc(const SampleSet& set, const AnalyticFitOptions& options, AnalyticParameters& out, AnalyticFitReport& report) {
+  auto eval = [](const auto* p, const FitSample& s, auto* f) { fit::evalAbc(p, s, f); };
+  std::vector<std::vector<double>> starts;
+  for (int k = 0; k < options.starts; ++k) {
+    const Rgb& kd = set.diffuse_guess;
+    const double log_a = std::log(k % 2 == 0 ? 10.0 : 300.0);
+    starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, log_a, log_a, log_a, logSpread(50.0, 1e6, k, options.starts), 1.0, 1.5});
+  }
+  std::vector<Bound> bounds(3, Bound{0.0, 1.0});
+  for (int c = 0; c < 3; ++c) bounds.push_back({std::log(1e-6), std::log(1e6)});
+  bounds.push_back({std::log(1e-3), std::log(1e8)});
+  bounds.push_back({0.01, 100.0});
+  bounds.push_back({1.01, 10.0});
+  Progress progress("fit", std::uint64_t(options.starts));
+  const StartResult best = bestOfStarts<3, 9>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
+  recordStart(report, best, "");
+  const std::vector<double>& p = best.parameters;
+  out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
+  out.specular = Rgb(float(std::exp(p[3])), float(std::exp(p[4])), float(std::exp(p[5])));
+  out.abc_b = std::exp(p[6]);
+  out.abc_c = p[7];
+  out.abc_ior = p[8];
+}
+
 template <int kChannels, int kLobes>
 std::vector<double> lafortuneStart(const SampleSet& set, int channel, int k, int starts) {
   std::vector<double> p;
@@ -491,6 +519,7 @@ std::unique_ptr<Material> makeAnalyticMaterial(const AnalyticParameters& p) {
   switch (p.family) {
     case ModelFamily::Ggx: return std::make_unique<Ggx>(p.diffuse, p.specular, p.alpha, p.alpha);
     case ModelFamily::Ggx2: return std::make_unique<GgxTwoLobes>(p.diffuse, p.specular, p.alpha, p.specular_2, p.alpha_2);
+    case ModelFamily::Abc: return std::make_unique<Abc>(AbcParameters{p.diffuse, p.specular, p.abc_b, p.abc_c, p.abc_ior});
     case ModelFamily::Ward: return std::make_unique<Ward>(p.diffuse, p.specular, p.alpha, p.alpha);
     case ModelFamily::Lafortune: return std::make_unique<Lafortune>(p.diffuse, p.lobes);
     default: break;
@@ -542,6 +571,7 @@ AnalyticFit fitSamples(const SampleSet& all, const AnalyticFitOptions& options) 
                     fit.parameters, report);
       break;
     case ModelFamily::Ggx2: fitGgxTwoLobes(set, options, fit.parameters, report); break;
+    case ModelFamily::Abc: fitAbc(set, options, fit.parameters, report); break;
     case ModelFamily::Lafortune:
       if (options.lobes == 1) fitLafortune<1>(set, options, fit.parameters, report);
       else if (options.lobes == 2) fitLafortune<2>(set, options, fit.parameters, report);
@@ -579,6 +609,41 @@ AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& option
   fit.report.warnings = fitWarnings(fit.report);
   fit.report.seconds = secondsSince(start_time);
   return fit;
+}
+
+AutoFit fitSmallestModel(const MerlTable& table, std::span<const AnalyticFitOptions> candidates, double tolerance) {
+  if (candidates.empty()) throw Error("fit --model auto: the candidate list is empty");
+  if (!(tolerance >= 0)) throw Error("fit --model auto: the tolerance must be >= 0");
+  AutoFit result;
+  for (const AnalyticFitOptions& c : candidates) result.tried.push_back(fitAnalytic(table, c));
+  double best = INFINITY;
+  for (const AnalyticFit& f : result.tried) best = std::min(best, f.report.rel_rmse);
+  auto keepsAlbedo = [](const AnalyticFit& f) {
+    return std::all_of(f.report.albedo.begin(), f.report.albedo.end(),
+                       [](const AlbedoCheck& a) { return a.rel_error <= kFitAlbedoTolerance; });
+  };
+  const double limit = best * (1.0 + tolerance);
+  std::optional<std::size_t> within;  // the first within the rel_rmse tolerance, whatever its albedo
+  for (std::size_t k = 0; k < result.tried.size(); ++k) {
+    const AnalyticFit& f = result.tried[k];
+    if (!(f.report.rel_rmse <= limit)) continue;
+    if (!within) within = k;
+    if (keepsAlbedo(f)) {
+      result.chosen_index = k;
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "the smallest candidate within %.0f%% of the best rel_rmse (%.4g) whose albedo is within %.0f%% of the data's",
+                    100.0 * tolerance, best, 100.0 * kFitAlbedoTolerance);
+      result.reason = text;
+      result.chosen = f;
+      return result;
+    }
+  }
+  result.chosen_index = *within;  // the best candidate itself is always within
+  result.chosen = result.tried[*within];
+  result.reason = "no candidate keeps the albedo within " + std::to_string(int(100 * kFitAlbedoTolerance)) +
+                  "%: the smallest within the rel_rmse tolerance";
+  return result;
 }
 
 AnalyticFit fitAnalytic(std::span<const MeasuredReflectance> data, const AnalyticFitOptions& options) {

@@ -37,6 +37,11 @@ class FitReader {
       if (!known) fail(where + ": unknown key \"" + key + "\"");
     }
   }
+  // number() in double precision (ABC's B reaches 1e7, where a float keeps 4 digits).
+  double real(const json& value, const std::string& where, double lo, double hi) const {
+    (void)number(value, where, lo, hi);
+    return value.get<double>();
+  }
   float number(const json& value, const std::string& where, double lo, double hi) const {
     if (!value.is_number()) fail(where + ": expected a number");
     const double v = value.get<double>();
@@ -67,7 +72,7 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
   const AnalyticParameters& p = fit.parameters;
   // What is written is finite (a fit that diverged is an error, not a file).
   bool finite = p.diffuse.isFinite() && p.specular.isFinite() && std::isfinite(p.alpha) && p.specular_2.isFinite() &&
-                std::isfinite(p.alpha_2);
+                std::isfinite(p.alpha_2) && std::isfinite(p.abc_b) && std::isfinite(p.abc_c) && std::isfinite(p.abc_ior);
   for (const LafortuneLobe& lobe : p.lobes)
     finite = finite && lobe.rho.isFinite() && std::isfinite(lobe.c.x) && std::isfinite(lobe.c.y) &&
              std::isfinite(lobe.c.z) && std::isfinite(lobe.exponent);
@@ -87,6 +92,12 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
     case ModelFamily::Ward:
       parameters["specular"] = rgbJson(p.specular);
       parameters["alpha"] = p.alpha;
+      break;
+    case ModelFamily::Abc:
+      parameters["a"] = rgbJson(p.specular);
+      parameters["b"] = p.abc_b;
+      parameters["c"] = p.abc_c;
+      parameters["ior"] = p.abc_ior;
       break;
     case ModelFamily::Lafortune: {
       json lobes = json::array();
@@ -157,6 +168,13 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
       p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
       p.specular_2 = r.rgb(r.member(q, "f0_2", "/parameters"), "/parameters/f0_2", 1);
       p.alpha_2 = r.number(r.member(q, "alpha_2", "/parameters"), "/parameters/alpha_2", 1e-6, 1e3);
+      break;
+    case ModelFamily::Abc:
+      r.allowOnly(q, {"diffuse", "a", "b", "c", "ior"}, "/parameters");
+      p.specular = r.rgb(r.member(q, "a", "/parameters"), "/parameters/a", 1e6);
+      p.abc_b = r.real(r.member(q, "b", "/parameters"), "/parameters/b", 1e-6, 1e10);
+      p.abc_c = r.real(r.member(q, "c", "/parameters"), "/parameters/c", -1e3, 1e3);
+      p.abc_ior = r.real(r.member(q, "ior", "/parameters"), "/parameters/ior", 1, 100);
       break;
     case ModelFamily::Ward:
       r.allowOnly(q, {"diffuse", "specular", "alpha"}, "/parameters");

@@ -86,6 +86,27 @@ void evalGgx2(const T* p, const FitSample& s, T* f) {
   for (int c = 0; c < 3; ++c) f[c] += g[c];
 }
 
+// ABC (material/abc.h, Löw et al. 2012). Parameters: kd[3], ln A[3], ln B, C, ior. The shadowing,
+// the half vector and cos_d depend on the directions alone and stay double.
+template <class T>
+void evalAbc(const T* p, const FitSample& s, T* f) {
+  using std::exp;
+  using std::log;
+  using std::sqrt;
+  const double cos_h = std::sqrt(s.h_z2);
+  const double one_minus_cos_h = s.h_xy2 / (1.0 + cos_h);  // without cancellation near the normal
+  const double cos_d = std::min(s.half_length, 1.0);
+  const double g = std::min({1.0, 2.0 * cos_h * s.cos_i / cos_d, 2.0 * cos_h * s.cos_o / cos_d});
+  const T shape = exp(-p[7] * log(T(1) + exp(p[6]) * T(one_minus_cos_h)));
+  const T& ior = p[8];
+  const T root = sqrt(ior * ior + T(cos_d * cos_d - 1.0));
+  const T a = (root - T(cos_d)) / (root + T(cos_d));
+  const T b = (T(cos_d) * (root + T(cos_d)) - T(1)) / (T(cos_d) * (root - T(cos_d)) + T(1));
+  const T fresnel = T(0.5) * a * a * (T(1) + b * b);
+  const T specular = fresnel * shape * T(g / (kFitPi * s.cos_i * s.cos_o));
+  for (int c = 0; c < 3; ++c) f[c] = p[c] / T(kFitPi) + exp(p[3 + c]) * specular;
+}
+
 // Parameters: kd[3], ks[3], ln(alpha).
 template <class T>
 void evalWard(const T* p, const FitSample& s, T* f) {

@@ -4,9 +4,9 @@
 // directional albedo beside the data's; writes the model as a material file.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -25,6 +25,8 @@
 #include "btf/material/albedo.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/tabulated_brdf.h"
+#include "comma_list.h"
+#include "fit_scene_candidates.h"
 #include "material_input.h"
 #include "commands.h"
 
@@ -40,6 +42,8 @@ struct FitCommandOptions {
   int lobes = 1, starts = 6, iterations = 100;
   bool per_channel = false, json = false, strict = false, no_energy = false;
   double energy_weight = 1.0;
+  std::string candidates = "ggx,ggx2,lafortune:2";  // --model auto, smallest first
+  double auto_tolerance = 0.1;
 };
 
 std::string rgbText(const Rgb& c) {
@@ -55,6 +59,9 @@ std::string parameterText(const AnalyticParameters& p) {
   if (p.family == ModelFamily::Ggx2)
     text += ", second lobe f0 " + rgbText(p.specular_2) + ", alpha " + std::to_string(p.alpha_2);
   if (p.family == ModelFamily::Ward) text += ", specular " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Abc)
+    text += ", A " + rgbText(p.specular) + ", B " + std::to_string(p.abc_b) + ", C " + std::to_string(p.abc_c) + ", ior " +
+            std::to_string(p.abc_ior);
   for (const LafortuneLobe& l : p.lobes) {
     char lobe[160];
     std::snprintf(lobe, sizeof lobe, "\n    lobe rho %s, c (%.4g, %.4g, %.4g), n %.4g", rgbText(l.rho).c_str(), l.c.x, l.c.y, l.c.z,
@@ -106,9 +113,50 @@ FitData loadFitData(const FitCommandOptions& o) {
   return d;
 }
 
+// --model auto: the candidates, each a fit spec (family[:lobes][:linear|log]), with the command's
+// starts, iterations and energy weight.
+std::vector<AnalyticFitOptions> autoCandidates(const FitCommandOptions& o) {
+  std::vector<AnalyticFitOptions> list;
+  for (const std::string& spec : splitCommaList(o.candidates)) {
+    AnalyticFitOptions c = parseFitSpec(spec);
+    c.starts = o.starts;
+    c.max_iterations = o.iterations;
+    c.energy_weight = o.no_energy ? 0.0 : o.energy_weight;
+    list.push_back(c);
+  }
+  if (list.empty()) throw Error("--model auto: --candidates lists no model");
+  return list;
+}
+
+std::string specLabel(const AnalyticFitOptions& c) {
+  std::string label = modelFamilyName(c.family);
+  if (c.family == ModelFamily::Lafortune) label += ":" + std::to_string(c.lobes);
+  if (c.objective == FitObjective::Linear) label += ":linear";
+  return label;
+}
+
+nlohmann::json candidatesJson(const std::optional<AutoFit>& automatic) {
+  if (!automatic) return nullptr;
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t k = 0; k < automatic->tried.size(); ++k) {
+    const AnalyticFit& f = automatic->tried[k];
+    nlohmann::json errors = nlohmann::json::array();
+    for (const AlbedoCheck& a : f.report.albedo) errors.push_back({{"theta_o_deg", a.theta_o_deg}, {"rel_error", a.rel_error}});
+    list.push_back({{"model", modelFamilyName(f.parameters.family)}, {"rel_rmse", f.report.rel_rmse},
+                    {"albedo_errors", errors}, {"kept", k == automatic->chosen_index}});
+  }
+  return list;
+}
+
 void runFit(const FitCommandOptions& o) {
   AnalyticFitOptions options;
-  options.family = parseModelFamily(o.model, kFittableFamilies);
+  std::vector<AnalyticFitOptions> candidates;
+  if (o.model == "auto") {
+    candidates = autoCandidates(o);
+    options = candidates.front();
+  } else {
+    options.family = parseModelFamily(o.model, kFittableFamilies);
+  }
   options.lobes = o.lobes;
   options.per_channel = o.per_channel;
   options.starts = o.starts;
@@ -118,7 +166,13 @@ void runFit(const FitCommandOptions& o) {
   if (o.no_energy) options.energy_weight = 0;
   else options.energy_weight = o.energy_weight;
   const FitData d = loadFitData(o);
-  AnalyticFit fit = d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
+  std::optional<AutoFit> automatic;
+  if (!candidates.empty()) {
+    if (!d.table) throw FileError(o.in, "--model auto chooses among fits to a table; fit a BTF texel with one --model");
+    automatic = fitSmallestModel(*d.table, candidates, o.auto_tolerance);
+  }
+  AnalyticFit fit = automatic ? automatic->chosen
+                              : d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
 
   nlohmann::json albedo = nlohmann::json::array();
   for (float deg : kAlbedoAnglesDeg) {
@@ -156,7 +210,8 @@ void runFit(const FitCommandOptions& o) {
                                 {"rel_rmse", r.rel_rmse}, {"converged", r.converged}, {"starts", r.starts},
                                 {"screening_converged", r.screening_converged}, {"iterations", r.iterations},
                                 {"samples", r.samples}, {"excluded", r.excluded}, {"seconds", r.seconds},
-                                {"energy_weight", options.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings}}
+                                {"energy_weight", options.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings},
+                                {"candidates", candidatesJson(automatic)}}
                      .dump(2)
               << '\n';
     return;
@@ -192,6 +247,17 @@ void runFit(const FitCommandOptions& o) {
     }
   }
   std::printf("\n");
+  if (automatic) {
+    std::printf("  --model auto kept %s: %s\n", specLabel(candidates[automatic->chosen_index]).c_str(),
+                automatic->reason.c_str());
+    for (std::size_t k = 0; k < automatic->tried.size(); ++k) {
+      double worst = 0;
+      for (const AlbedoCheck& a : automatic->tried[k].report.albedo) worst = std::max(worst, a.rel_error);
+      std::printf("    %-16s rel_rmse %.4f, largest albedo error %5.1f%%, %.1f s%s\n", specLabel(candidates[k]).c_str(),
+                  automatic->tried[k].report.rel_rmse, 100.0 * worst, automatic->tried[k].report.seconds,
+                  k == automatic->chosen_index ? "  <- kept" : "");
+    }
+  }
   std::printf("wrote %s\n", o.out.c_str());
   for (const std::string& w : r.warnings) std::fprintf(stderr, "btf: warning: %s: %s\n", o.in.c_str(), w.c_str());
   if (!r.converged) std::fprintf(stderr, "btf: the final solve's Ceres report:\n%s\n", r.ceres_report.c_str());
@@ -202,14 +268,23 @@ void runFit(const FitCommandOptions& o) {
 void registerFitCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "fit",
-      "Fit an analytic model (ggx, ggx2, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
+      "Fit an analytic model (ggx, ggx2, abc, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
       "ln(1 + f cos theta_i) (or, --objective linear, least squares of f cos theta_i: the rel_rmse itself), unmeasured cells left out. Writes the model as JSON, usable as a material by info, eval, plot, "
       "sample and in scenes ({\"type\": \"fitted\", \"file\": ...})");
   auto o = std::make_shared<FitCommandOptions>();
   cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack, .bsdf, .octree) or BTF (image folder, .btfz)")->required();
   cmd->add_option("-o,--output", o->out, "The fitted model (.json), written atomically")->required();
-  cmd->add_option("--model", o->model, "ggx, ggx2 (two GGX lobes over the diffuse term), ward or lafortune")
-      ->check(CLI::IsMember({"ggx", "ggx2", "ward", "lafortune"}))
+  cmd->add_option("--model", o->model,
+                  "ggx, ggx2 (two GGX lobes over the diffuse term), abc (Low 2012, as the published MERL fits), ward, "
+                  "lafortune, or auto (the smallest of --candidates that fits as well as any of them and keeps the albedo)")
+      ->check(CLI::IsMember({"ggx", "ggx2", "abc", "ward", "lafortune", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--candidates", o->candidates,
+                  "--model auto: the models to try, smallest first, each family[:lobes][:linear|log]")
+      ->capture_default_str();
+  cmd->add_option("--auto-tolerance", o->auto_tolerance,
+                  "--model auto: keep the first candidate whose rel_rmse is within this fraction of the best one's")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--lobes", o->lobes, "Lafortune lobes (1-3)")->check(CLI::Range(1, 3))->capture_default_str();
   cmd->add_option("--texel", o->texel, "BTF: fit texel X,Y (default: the mean over all texels)")

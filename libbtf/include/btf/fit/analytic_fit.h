@@ -23,10 +23,13 @@
 //   ggx        diffuse kd (RGB), f0 (RGB), alpha            material/ggx.h
 //   ggx2       ggx's, plus a second GGX lobe f0_2 (RGB), alpha_2 (no diffuse term of its own)
 //                                                           material/ggx_two_lobes.h
+//   abc        kd (RGB), A (RGB), B, C, ior (Löw et al. 2012, the published MERL fits' form)
+//                                                           material/abc.h
 //   ward       diffuse kd (RGB), specular ks (RGB), alpha   material/ward.h
 //   lafortune  diffuse kd (RGB), per lobe rho (RGB), c = (cxy, cxy, cz), exponent n
 //              (1 to 3 lobes; shared lobe shapes with RGB weights, or each channel its own)
-// Bounds: albedos in [0, 1]; alpha in [1e-3, 2]; n in [1, 1e5]; c on the unit circle of (cxy, cz)
+// Bounds: albedos in [0, 1]; alpha in [1e-3, 2]; ABC's A in [1e-6, 1e6], B in [1e-3, 1e8], C in
+// [0.01, 100], ior in [1.01, 10] (the published fits' ranges, widened); n in [1, 1e5]; c on the unit circle of (cxy, cz)
 // (only its direction matters in this normalization of the model).
 //
 // The energy term (tables only). Neither objective sees the material's energy: the log objective
@@ -64,8 +67,8 @@
 namespace btf {
 
 // The families the fitter knows (btf/material/model_family.h names them).
-inline constexpr std::array<ModelFamily, 4> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward,
-                                                                 ModelFamily::Ggx2};
+inline constexpr std::array<ModelFamily, 5> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward,
+                                                                 ModelFamily::Ggx2, ModelFamily::Abc};
 // The residuals minimized (see above): log-compressed and robust, or linear (the measure itself).
 enum class FitObjective { Log, Linear };
 
@@ -112,6 +115,7 @@ struct AnalyticParameters {
   std::vector<LafortuneLobe> lobes;   // lafortune
   Rgb specular_2 = {};                // ggx2: the second lobe's f0
   float alpha_2 = 0;                  // ggx2: the second lobe's alpha
+  double abc_b = 1, abc_c = 1, abc_ior = 1.5;  // abc: B, C and ior (A is `specular`)
 };
 
 // The Material of a parameter set (a Ggx, GgxTwoLobes, Ward or Lafortune). Throws btf::Error for parameters
@@ -148,6 +152,21 @@ struct AnalyticFit {
 // starts run in parallel, each from a fixed initial guess, and the lowest cost wins (ties to the
 // earlier start). Progress: one "fit" task over the starts.
 AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options);
+
+// `btf fit --model auto`: the candidates fitted one after another, in the order given (the
+// caller's order of size: the fewest parameters first), and the first kept whose rel_rmse is within
+// (1 + tolerance) of the best candidate's and whose albedo is within kFitAlbedoTolerance of the
+// data's at every checked angle: the smallest model that does as well as any of them (the "model
+// no more than a scene needs" rule, at the table level). Where no candidate keeps the albedo, the
+// smallest within the rel_rmse tolerance is kept and `reason` says so. Throws btf::Error for an
+// empty candidate list, and as fitAnalytic does.
+struct AutoFit {
+  AnalyticFit chosen;
+  std::vector<AnalyticFit> tried;  // every candidate's fit, in the order given
+  std::size_t chosen_index = 0;
+  std::string reason;              // one line: why this candidate
+};
+AutoFit fitSmallestModel(const MerlTable& table, std::span<const AnalyticFitOptions> candidates, double tolerance);
 
 // One measured value of a BRDF at a direction pair: scattered data such as a BTF texel's entries
 // at its 81 x 81 direction pairs.

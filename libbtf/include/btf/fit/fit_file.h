@@ -1,8 +1,9 @@
 // The JSON file of a fitted analytic model (`btf fit -o params.json`), usable as a material
 // anywhere a file is (`btf info/eval/plot/sample`, {"type": "fitted", "file": ...} in a scene):
-//   {"format": "libbtf-fit", "version": 1, "model": "ggx" | "ggx2" | "ward" | "lafortune",
+//   {"format": "libbtf-fit", "version": 1, "model": "ggx" | "ggx2" | "abc" | "ward" | "lafortune",
 //    "parameters": {"diffuse": [r, g, b], "f0": [r, g, b], "alpha": a}             (ggx)
 //                  {ggx's, "f0_2": [r, g, b], "alpha_2": a}                        (ggx2)
+//                  {"diffuse": [...], "a": [r, g, b], "b": B, "c": C, "ior": n}    (abc)
 //                  {"diffuse": [...], "specular": [...], "alpha": a}               (ward)
 //                  {"diffuse": [...], "lobes": [{"rho": [...], "c": [cx, cy, cz],
 //                                                "exponent": n}, ...]}             (lafortune)
