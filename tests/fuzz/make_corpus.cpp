@@ -320,6 +320,12 @@ void fit(const fs::path& out) {
   const std::string lafortune = std::string(R"({"format": "libbtf-fit", "version": 1, "model": "lafortune", "parameters": )"
                                             R"({"diffuse": [0.3, 0.2, 0.1], "lobes": [{"rho": [0.5, 0.5, 0.5], )"
                                             R"("c": [-1, -1, 1], "exponent": 20}]}, )") + info;
+  put(out / "ggx2.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "ggx2", "parameters": )"
+                                     R"({"diffuse": [0.2, 0.1, 0.1], "f0": [0.04, 0.04, 0.04], "alpha": 0.3, )"
+                                     R"("f0_2": [0.9, 0.6, 0.5], "alpha_2": 0.02}, )") + info);
+  put(out / "abc.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "abc", "parameters": )"
+                                    R"({"diffuse": [0.02, 0.02, 0.01], "a": [51.7, 37.9, 27.4], "b": 10482.1, "c": 0.8167, )"
+                                    R"("ior": 2.2365}, )") + info);
   put(out / "lafortune.json", lafortune);
   put(out / "truncated.json", lafortune.substr(0, lafortune.size() / 2));
 }
