@@ -176,6 +176,15 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Erro
   return tools::drawGnuplotCharts(folder, "fits_charts.gp", data.str(), charts);
 }
 
+// One of our fits, with the library's defaults but the family, objective and starts.
+AnalyticFit ourFit(const MerlTable& table, ModelFamily family, FitObjective objective, int starts) {
+  AnalyticFitOptions options;
+  options.family = family;
+  options.starts = starts;
+  options.objective = objective;
+  return fitAnalytic(table, options);
+}
+
 // The measured-style tables of --tables: every .binary and .bsdf file named, or found in a named
 // folder, by name.
 std::vector<std::filesystem::path> tableFiles(const std::vector<std::string>& named) {
@@ -287,11 +296,7 @@ void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vec
       }
     for (ModelFamily family : ours)
       for (FitObjective objective : objectives) {
-        AnalyticFitOptions options;
-        options.family = family;
-        options.starts = args.starts;
-        options.objective = objective;
-        const AnalyticFit fit = fitAnalytic(table, options);
+        const AnalyticFit fit = ourFit(table, family, objective, args.starts);
         rows.push_back({name, "data", ourName(family, objective), fit.report.rel_rmse, true, fit.report.converged,
                         fit.report.seconds, albedoError(*fit.material, data_albedo)});
         std::printf("%-28s %-22s rel_rmse %8.4f  albedo error %6.1f%%  %5.1f s%s\n", name.c_str(), rows.back().model.c_str(),
@@ -349,11 +354,7 @@ void runBenchFits(const Args& args) {
                         tableRelRmse(*makeMerlFitMaterial(fits, material, published), table)});
       for (ModelFamily family : ours)
         for (FitObjective objective : objectives) {
-          AnalyticFitOptions options;
-          options.family = family;
-          options.starts = args.starts;
-          options.objective = objective;
-          const AnalyticFit fit = fitAnalytic(table, options);
+          const AnalyticFit fit = ourFit(table, family, objective, args.starts);
           rows.push_back({material, modelFamilyName(reference), ourName(family, objective), fit.report.rel_rmse, true,
                           fit.report.converged, fit.report.seconds});
         }

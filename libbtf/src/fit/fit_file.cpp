@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
+#include <string>
+#include <vector>
 
 #include "btf/core/error.h"
 #include "btf/io/atomic_file.h"
@@ -158,17 +161,20 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
   p.diffuse = r.rgb(r.member(q, "diffuse", "/parameters"), "/parameters/diffuse", 1e6);
   switch (p.family) {
     case ModelFamily::Ggx:
-      r.allowOnly(q, {"diffuse", "f0", "alpha"}, "/parameters");
-      p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
-      p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
+    case ModelFamily::Ggx2: {
+      // ggx2 is ggx with a second lobe: the same keys, and the second lobe's under the suffix _2.
+      const bool two = p.family == ModelFamily::Ggx2;
+      r.allowOnly(q, two ? std::initializer_list<const char*>{"diffuse", "f0", "alpha", "f0_2", "alpha_2"}
+                         : std::initializer_list<const char*>{"diffuse", "f0", "alpha"},
+                  "/parameters");
+      for (const std::string& suffix : two ? std::vector<std::string>{"", "_2"} : std::vector<std::string>{""}) {
+        const Rgb f0 = r.rgb(r.member(q, "f0" + suffix, "/parameters"), "/parameters/f0" + suffix, 1);
+        const float alpha = r.number(r.member(q, "alpha" + suffix, "/parameters"), "/parameters/alpha" + suffix, 1e-6, 1e3);
+        (suffix.empty() ? p.specular : p.specular_2) = f0;
+        (suffix.empty() ? p.alpha : p.alpha_2) = alpha;
+      }
       break;
-    case ModelFamily::Ggx2:
-      r.allowOnly(q, {"diffuse", "f0", "alpha", "f0_2", "alpha_2"}, "/parameters");
-      p.specular = r.rgb(r.member(q, "f0", "/parameters"), "/parameters/f0", 1);
-      p.alpha = r.number(r.member(q, "alpha", "/parameters"), "/parameters/alpha", 1e-6, 1e3);
-      p.specular_2 = r.rgb(r.member(q, "f0_2", "/parameters"), "/parameters/f0_2", 1);
-      p.alpha_2 = r.number(r.member(q, "alpha_2", "/parameters"), "/parameters/alpha_2", 1e-6, 1e3);
-      break;
+    }
     case ModelFamily::Abc:
       r.allowOnly(q, {"diffuse", "a", "b", "c", "ior"}, "/parameters");
       p.specular = r.rgb(r.member(q, "a", "/parameters"), "/parameters/a", 1e6);
