@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -123,6 +124,36 @@ TEST(FitCli, FitsABtfTexelOrTheMeanOverItsTexels) {
 
 // btf bench fits: per (material, reference) table, a row for every published fit of the material
 // and one for each of our fits; the reference's own row is 0 (the table holds its values).
+// --tables: measured-style tables (here one named after a MERL material, so that its published fits
+// are measured beside ours), every row with its albedo error.
+TEST(BenchFitsCli, FitsMeasuredStyleTablesWithAlbedoErrors) {
+  TempDir dir;
+  const auto tables = dir / "tables";
+  std::filesystem::create_directories(tables);
+  ASSERT_EQ(runDatagen({"--merl-fit", "alum-bronze", "--model", "abc", "-o", (tables / "alum-bronze.binary").string()}).exit_code, 0);
+  const CommandResult r = runBtf({"bench", "fits", "--tables", tables.string(), "--models", "ggx", "--starts", "1", "-o",
+                                  (dir / "out").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("measured-style tables"));
+  std::istringstream csv(readBytes(dir / "out" / "fits.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::set<std::string> models;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::istringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) f.push_back(field);
+    ASSERT_EQ(f.size(), 8u) << line;
+    EXPECT_EQ(f[0], "alum-bronze");
+    EXPECT_GE(std::stod(f[5]), 0.0) << line;
+    models.insert(f[2]);
+  }
+  EXPECT_EQ(models, (std::set<std::string>{"abc", "sgd", "lafortune", "ours:ggx"}));
+  const CommandResult none = runBtf({"bench", "fits", "--tables", (dir / "out").string(), "-o", (dir / "x").string()});
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_THAT(none.output, HasSubstr("holds no .binary or .bsdf table"));
+}
+
 TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
   TempDir dir;
   CommandResult r = runBtf({"bench", "fits", "--materials", "gold-metallic-paint", "--references", "abc", "--models",
@@ -132,13 +163,14 @@ TEST(BenchFitsCli, WritesARowPerModelAndTableAndRefusesUnknownNames) {
   std::istringstream csv(readBytes(dir / "out" / "fits.csv"));
   std::string line;
   std::getline(csv, line);
-  EXPECT_EQ(line, "material,reference,model,ours,rel_rmse,converged,seconds");
+  EXPECT_EQ(line, "material,reference,model,ours,rel_rmse,albedo_error,converged,seconds");
   std::map<std::string, double> rel_rmse;
   while (std::getline(csv, line)) {
     std::vector<std::string> f;
     std::istringstream row(line);
     for (std::string field; std::getline(row, field, ',');) f.push_back(field);
-    ASSERT_EQ(f.size(), 7u) << line;
+    ASSERT_EQ(f.size(), 8u) << line;
+    EXPECT_TRUE(f[5].empty()) << "albedo errors are for --tables: " << line;
     EXPECT_EQ(f[0], "gold-metallic-paint");
     EXPECT_EQ(f[1], "abc");
     rel_rmse[f[2]] = std::stod(f[4]);
