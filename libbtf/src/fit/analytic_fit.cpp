@@ -229,10 +229,10 @@ struct Bound {
   double lower, upper;
 };
 
-// The energy residuals' scale (analytic_fit.h): so that an albedo off by 10% at every angle costs
-// energy_weight^2 times what the sample residuals cost when each is off by 0.1 of its typical
-// size (0.1 in log space; for the linear objective, 0.1 of the RMS data value), whatever the
-// number of samples: sqrt(samples x channels / energy residuals), times the typical size.
+// The energy residuals' scale (analytic_fit.h): so that a relative albedo error e at every angle
+// costs energy_weight^2 times what the sample residuals cost when each is off by e of its typical
+// size (e in log space; for the linear objective, e times the RMS data value), whatever the number
+// of samples: sqrt(samples x channels / energy residuals), times the typical size.
 double energyScale(const std::vector<FitSample>& samples, std::size_t energy_residuals, double energy_weight,
                    FitObjective objective, int channel, int channels) {
   double typical = 1.0;
@@ -330,6 +330,16 @@ void recordStart(AnalyticFitReport& report, const StartResult& best, const std::
   report.ceres_report += label + best.summary.BriefReport();
 }
 
+// The bounds of kd[3], then per lobe f0 or ks[3] and ln(alpha): albedos in [0, 1], alpha in [1e-3, 2].
+std::vector<Bound> microfacetBounds(int lobes) {
+  std::vector<Bound> bounds(3, Bound{0.0, 1.0});
+  for (int l = 0; l < lobes; ++l) {
+    for (int c = 0; c < 3; ++c) bounds.push_back({0.0, 1.0});
+    bounds.push_back({std::log(1e-3), std::log(2.0)});
+  }
+  return bounds;
+}
+
 // GGX or Ward: kd[3], f0 or ks[3], ln(alpha).
 template <class Eval>
 void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval eval, double specular_start,
@@ -341,8 +351,7 @@ void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval
     const double ks = k % 2 == 0 ? specular_start : 0.5;
     starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, ks, ks, ks, logSpread(0.01, 0.6, k, options.starts)});
   }
-  std::vector<Bound> bounds(6, Bound{0.0, 1.0});
-  bounds.push_back({std::log(1e-3), std::log(2.0)});
+  const std::vector<Bound> bounds = microfacetBounds(1);
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
@@ -365,10 +374,7 @@ void fitGgxTwoLobes(const SampleSet& set, const AnalyticFitOptions& options, Ana
     starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, 0.05, 0.05, 0.05, logSpread(0.15, 0.6, k, options.starts), coat,
                       coat, coat, logSpread(0.005, 0.08, k, options.starts)});
   }
-  std::vector<Bound> bounds(6, Bound{0.0, 1.0});
-  bounds.push_back({std::log(1e-3), std::log(2.0)});
-  for (int c = 0; c < 3; ++c) bounds.push_back({0.0, 1.0});
-  bounds.push_back({std::log(1e-3), std::log(2.0)});
+  const std::vector<Bound> bounds = microfacetBounds(2);
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 11>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");

@@ -11,14 +11,18 @@ namespace {
 
 float meanOf(const Rgb& c) { return (c.r + c.g + c.b) / 3.0f; }
 
+// The smallest share of the draws either lobe keeps.
+constexpr float kMinLobeProbability = 0.05f;
+
 }  // namespace
 
 GgxTwoLobes::GgxTwoLobes(Rgb diffuse_albedo, Rgb f0, float alpha, Rgb f0_2, float alpha_2)
     : base_(diffuse_albedo, f0, alpha, alpha), coat_(Rgb(0.0f), f0_2, alpha_2, alpha_2) {
   const float base = meanOf(diffuse_albedo) + meanOf(f0), coat = meanOf(f0_2);
-  // Each lobe keeps at least 5% of the draws, so that neither density can vanish where its lobe
-  // has energy (a coat of f0 0 reflects nothing, and then its draws only cost variance).
-  base_probability_ = base + coat > 0 ? std::clamp(base / (base + coat), 0.05f, 0.95f) : 0.5f;
+  // Each lobe keeps a share of the draws, so that neither density can vanish where its lobe has
+  // energy (a coat of f0 0 reflects nothing, and then its draws only cost variance).
+  base_probability_ = base + coat > 0 ? std::clamp(base / (base + coat), kMinLobeProbability, 1.0f - kMinLobeProbability)
+                                      : 0.5f;
   char text[224];
   std::snprintf(text, sizeof text, "ggx2(kd=(%g,%g,%g), f0=(%g,%g,%g), alpha=%g, f0_2=(%g,%g,%g), alpha_2=%g)",
                 double(diffuse_albedo.r), double(diffuse_albedo.g), double(diffuse_albedo.b), double(f0.r), double(f0.g),

@@ -63,12 +63,6 @@ RglAcquisitionOptions acquisitionOptions(const RglOutputOptions& o, const Materi
   return a;
 }
 
-// An RGL input is re-measured on its own parameterization unless other resolutions are asked for.
-std::optional<TensorFile> ownParameterization(const RglOutputOptions& o, const Material& source, const std::string& in) {
-  if (!dynamic_cast<const RglBrdf*>(&source) || o.theta_i_count || o.vndf_resolution || o.ndf_resolution) return std::nullopt;
-  return readTensorFile(in);
-}
-
 void printWritten(const std::string& out, const RglAcquisitionOptions& a, const std::vector<float>& theta_i,
                   std::uintmax_t bytes, const MaterialDifference& d, std::uint32_t pairs) {
   std::printf("wrote %s (RGL measured material, tensor_file 1.0, isotropic RGB)\n", out.c_str());
@@ -107,15 +101,22 @@ void addRglOutputOptions(CLI::App& cmd, RglOutputOptions& o) {
 void writeRglOutput(const IdentifiedMaterial& from, const std::string& in, const std::string& out,
                     const RglOutputOptions& o) {
   RglSource source;
+  std::optional<TensorFile> rgl_file;  // an RGL input, read once: the source and its parameterization
   if (isBtf(from)) {
     source = btfTexelSource(from, in, o.texel);
   } else {
     if (!o.texel.empty()) throw FileError(in, "--texel is for BTFs (an image folder, a Bonn .btf, a .btfz); this is a BRDF");
-    source = {createMaterial(from.params), std::filesystem::path(in).filename().string()};
+    const std::string label = std::filesystem::path(in).filename().string();
+    if (from.type->name == "rgl") {
+      rgl_file = readTensorFile(from.params.existingPath("file"));
+      source = {std::make_shared<RglBrdf>(*rgl_file), label};
+    } else {
+      source = {createMaterial(from.params), label};
+    }
   }
   RglAcquisitionOptions a = acquisitionOptions(o, *source.material, source.description);
-  const std::optional<TensorFile> own = ownParameterization(o, *source.material, in);
-  if (own) a.parameterization = &*own;
+  // An RGL input is re-measured on its own parameterization unless other resolutions are asked for.
+  if (rgl_file && !o.theta_i_count && !o.vndf_resolution && !o.ndf_resolution) a.parameterization = &*rgl_file;
   std::vector<TensorField> fields;
   try {
     fields = acquireRglFields(*source.material, a);

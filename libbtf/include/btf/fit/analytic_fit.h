@@ -33,8 +33,8 @@
 // (only its direction matters in this normalization of the model).
 //
 // The energy term (tables only). Neither objective sees the material's energy: the log objective
-// compresses the highlight, so a fit may trade a dim, wide lobe for a bright, narrow one (2.4x the
-// data's albedo on metallic paints), and the linear one may put all the energy in a diffuse term.
+// compresses the highlight, so a fit may trade a dim, wide lobe for a bright, narrow one of far
+// more energy than the data's, and the linear one may put all the energy in a diffuse term.
 // So each fit also minimizes, at the view angles kEnergyAnglesDeg, the relative difference of the
 // model's directional albedo from the data's, per channel,
 //   e_ac = s (A_model,c(theta_a) - A_data,c(theta_a)) / max(A_data,c(theta_a), 0.01),
@@ -43,8 +43,8 @@
 // A penalty rather than a constraint: a model that cannot match both the shape and the energy
 // settles between them, and the report says how far each is off. s = energy_weight times
 // sqrt(samples x channels / energy residuals) times the residuals' typical size (1 in log space;
-// the RMS data value for the linear objective): an albedo 10% off at every angle then costs what
-// every sample 0.1 off does, whatever the number of samples. Scattered data (a BTF texel) has no
+// the RMS data value for the linear objective): a relative albedo error e at every angle then costs
+// what every sample off by e (in those units) does, whatever the number of samples. Scattered data (a BTF texel) has no
 // albedo quadrature and takes no energy term.
 #pragma once
 
