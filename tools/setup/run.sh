@@ -36,6 +36,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   gnuplot-nox             # charts (PNG and SVG) of btf bench and btf sample
   fonts-dejavu-core       # the font of plot labels and charts
+  python3-dask python3-distributed  # btf.dask: a dataset compressed on a Dask cluster (python3 -m btf.dask)
 )
 
 install_packages() {
