@@ -1,7 +1,9 @@
 // BTFs from Python: btf.BtfSource (views streamed one at a time into numpy arrays, without a copy),
 // btf.open_btf, and VQ compression with its reports: btf.compress, btf.decompress, btf.merge,
 // btf.compare. The reports carry the fields and names of the `btf` verbs' --json output.
+#include <charconv>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -60,6 +62,13 @@ py::object measure(double v) {
   return py::str(v > 0 ? "inf" : "-inf");
 }
 
+// A float option as the number written (0.05, not 0.0500000007: the float's shortest form).
+double optionValue(float value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
+
 void addQuality(const BtfSource& reference, const BtfSource& test, py::dict& report) {
   BtfQuality q;
   {
@@ -103,9 +112,9 @@ py::dict compressInputs(const py::handle& inputs_in, const py::handle& out_in, f
   vq.threads = threads;
   py::dict report;
   report["output"] = out;
-  report["epsilon"] = vq.epsilon;
-  report["chroma_epsilon"] = vq.chroma_epsilon;
-  report["energy_floor"] = vq.energy_floor;
+  report["epsilon"] = optionValue(vq.epsilon);
+  report["chroma_epsilon"] = optionValue(vq.chroma_epsilon);
+  report["energy_floor"] = optionValue(vq.energy_floor);
   report["level1_cut"] = vq.level1_cut;
   report["level3_exceptions"] = vq.level3_exceptions;
   report["levels"] = vq.levels;

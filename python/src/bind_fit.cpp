@@ -91,7 +91,10 @@ void bindFit(py::module_& m) {
   converged, iterations, cost, samples, excluded, starts, seconds: the solver's report
   save(path)  writes the fit file (`btf fit -o`), usable as a material anywhere)doc")
       .def_property_readonly("model", [](const PyFit& f) { return std::string(modelFamilyName(f.fit.parameters.family)); })
-      .def_property_readonly("parameters", [](const PyFit& f) { return fitFileDict(f)["parameters"]; })
+      .def_property_readonly("parameters", [](const PyFit& f) {
+        const py::dict file = fitFileDict(f);  // the accessor below must not outlive it
+        return py::object(file["parameters"]);
+      })
       .def_property_readonly("material", [](const PyFit& f) { return PyMaterial{f.fit.material}; })
       .def_property_readonly("rel_rmse", [](const PyFit& f) { return f.fit.report.rel_rmse; })
       .def_property_readonly("albedo", [](const PyFit& f) { return albedoChecks(f.fit.report); })

@@ -1,0 +1,80 @@
+"""What the Python binding costs per sample: Material.eval and Material.sample through btf (numpy
+in, numpy out, the GIL released) against the library's own C++ calls on the same arrays, timed in
+C++ by btf._bench (Material::evalMany, the stream call; a C++ loop of Material::sample, which has
+no stream form). Prints seconds per call and the ratio Python / C++ for each material and N.
+The goal: a ratio of at most 1.2 for N >= 1e5.
+
+    /usr/bin/python3 tools/bench/python_overhead.py [--build build-py] [--repeats 5]
+
+Materials: a GGX, a MERL-layout table made by btf-datagen (preset plastic-red), and the shared RGL
+file paper_white_rgb.bsdf when the shared data is beside the checkout.
+"""
+
+import argparse
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+repo = pathlib.Path(__file__).resolve().parents[2]
+parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+parser.add_argument("--build", default=None, help="build folder whose python/ and bin/ to use (default: build-py, then build)")
+parser.add_argument("--repeats", type=int, default=5, help="runs per timing; the fastest counts")
+parser.add_argument("--sizes", default="100000,1000000", help="comma-separated N")
+args = parser.parse_args()
+build = pathlib.Path(args.build) if args.build else next(
+    (repo / b for b in ("build-py", "build") if (repo / b / "python" / "btf").exists()), repo / "build")
+sys.path.insert(0, str(build / "python"))
+
+import numpy as np  # noqa: E402
+
+import btf  # noqa: E402
+
+
+def fastest(repeats, call):
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def materials(folder):
+    yield "ggx", btf.create({"type": "ggx", "diffuse": [0.5, 0.1, 0.1], "f0": 0.04, "alpha": 0.2})
+    table = folder / "plastic-red.binary"
+    subprocess.run([str(build / "bin" / "btf-datagen"), "--preset", "plastic-red", "--seed", "1", "-o", str(table)],
+                   check=True, stdout=subprocess.DEVNULL)
+    yield "merl table (plastic-red)", btf.open(table)
+    rgl = pathlib.Path(os.environ.get("BTF_SHARED_DATA_DIR", repo.parent / "shared" / "data" / "real")) / "rgl_bsdf" / "paper_white_rgb.bsdf"
+    if rgl.exists():
+        yield "rgl paper_white_rgb", btf.open(rgl)
+    else:
+        print(f"(no {rgl}: the RGL material is left out)")
+
+
+def main():
+    sizes = [int(float(s)) for s in args.sizes.split(",")]
+    wo = btf.direction(35, 10)
+    print(f"package: {btf.__file__}; fastest of {args.repeats} runs; ratio = Python / C++ per call")
+    print(f"{'material':28s} {'call':7s} {'N':>8s} {'python s':>10s} {'c++ s':>10s} {'ns/sample':>10s} {'ratio':>6s}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, material in materials(pathlib.Path(tmp)):
+            for n in sizes:
+                rng = np.random.default_rng(1)
+                v = rng.normal(size=(n, 3))
+                wi = (v / np.linalg.norm(v, axis=1, keepdims=True)).astype(np.float32)
+                wi[:, 2] = np.abs(wi[:, 2])
+                u = rng.random((n, 2)).astype(np.float32)
+                material.eval(wi[:1000], wo)  # first-call set-up out of the timing
+                py_eval = fastest(args.repeats, lambda: material.eval(wi, wo))
+                cpp_eval = btf._bench.eval_stream_seconds(material, wo, wi, args.repeats)
+                py_sample = fastest(args.repeats, lambda: material.sample(wo, u))
+                cpp_sample = btf._bench.sample_loop_seconds(material, wo, u, args.repeats)
+                for call, p, c in (("eval", py_eval, cpp_eval), ("sample", py_sample, cpp_sample)):
+                    print(f"{name:28s} {call:7s} {n:8d} {p:10.5f} {c:10.5f} {p / n * 1e9:10.1f} {p / c:6.3f}")
+
+
+main()
