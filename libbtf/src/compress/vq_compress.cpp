@@ -55,6 +55,7 @@
 #include "btf/compress/vq_database.h"
 #include "btf/core/error.h"
 #include "btf/core/progress.h"
+#include "vq_codebooks.h"
 #include "vq_impl.h"
 #include "vq_prune.h"
 #include "vq_sections.h"
@@ -159,7 +160,11 @@ class Compressor {
  public:
   // `bases`: the level-1 ring bases (vqRingBasesFor), empty for value-by-value rings.
   // `books.layout` is the materials' ring layout (all the same: the codebooks are per ring).
-  Compressor(const VqOptions& options, VqBtf::Impl& books, std::vector<VqRingBasis> bases)
+  // `seed`: shared codebooks to start from (compress/vq_dataset.h), of books.layout and these
+  // options, value-by-value rings; their entries are reused under the same rules as any other and
+  // their entry 0 of each codebook is the seed below. Null: the codebooks start from the seeds alone.
+  Compressor(const VqOptions& options, VqBtf::Impl& books, std::vector<VqRingBasis> bases,
+             const VqBtf::Impl* seed = nullptr)
       : options_(options),
         precision_(vqPrecisionFor(options.epsilon, books.layout.maxSize())),
         books_(books),
@@ -177,6 +182,10 @@ class Compressor {
     for (int r = 0; r < int(R_); ++r) {
       l1_.emplace_back(layout_.size(r));
       if (std::size_t(r) < bases.size()) books_.l1_basis[std::size_t(r)] = std::move(bases[std::size_t(r)]);
+    }
+    if (seed) {
+      startFrom(*seed);
+      return;
     }
     // Seeds, so that zero data always has an entry: the constant function of each ring, grey, the
     // uniform light slice (level 2) and, per material, the uniform texel (level 3).
@@ -199,6 +208,42 @@ class Compressor {
         sc[std::size_t(r)] = encodeVqScale(std::sqrt(float(layout_.size(r)) / float(L_)));
       l2_.emplace(int(L_));
       addLevel2Entry(e1.data(), sc.data(), ch.data());
+    }
+  }
+
+  // The codebooks hold `seed`'s entries, in its order, as if they had been made here: stored codes
+  // copied, the search trees over their decoded values (level 2 over its reconstructions).
+  void startFrom(const VqBtf::Impl& seed) {
+    books_.l1 = seed.l1;
+    books_.chroma = seed.chroma;
+    books_.l2_index = seed.l2_index;
+    books_.l2_scale = seed.l2_scale;
+    books_.l2_chroma = seed.l2_chroma;
+    const float step = vqChromaStep(options_.chroma_epsilon);
+    for (int r = 0; r < int(R_); ++r) {
+      const std::size_t n = std::size_t(layout_.size(r));
+      std::vector<float> values(n), chroma(2 * n);
+      for (std::size_t e = 0; e < seed.l1Count(r); ++e) {
+        for (std::size_t a = 0; a < n; ++a) values[a] = decodeVqEntryValue(seed.l1[std::size_t(r)][e * n + a]);
+        l1_[std::size_t(r)].add(values);
+      }
+      chroma_books_.emplace_back(int(2 * n));
+      for (std::size_t c = 0; c < seed.chromaCount(r); ++c) {
+        for (std::size_t i = 0; i < 2 * n; ++i) chroma[i] = float(seed.chroma[std::size_t(r)][c * 2 * n + i]) * step;
+        chroma_books_.back().add(chroma);
+      }
+      l1_[std::size_t(r)].index();
+      chroma_books_.back().index();
+    }
+    if (options_.levels >= 2) {
+      l2_.emplace(int(L_));
+      std::vector<float> recon(L_);
+      for (std::size_t e = 0; e < seed.l2Count(); ++e) {
+        reconstructSlice(&seed.l2_index[e * R_], &seed.l2_scale[e * R_], recon.data());
+        l2_norm2_.push_back(float(dot(recon.data(), recon.data(), int(L_))));
+        l2_->add(recon);
+      }
+      l2_->index();
     }
   }
 
@@ -876,8 +921,12 @@ VqBtf compressVq(const BtfSource& source, const VqOptions& options) {
   return VqBtf(impl);
 }
 
-VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
-                              const VqOptions& options) {
+namespace {
+
+// compressVqDatabase, its shared codebooks starting from `seed`'s group of each layout when given
+// (compress/vq_dataset.h).
+VqDatabase compressVqDatabaseFrom(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
+                                  const VqOptions& options, const VqCodebooks::Impl* seed) {
   checkVqOptions(options);
   if (sources.empty()) throw Error("a VQ database needs at least one material");
   if (names.size() != sources.size())
@@ -902,7 +951,11 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
     books.options = options;
     books.setLayout(impls[group_first[g]]->layout);
     inArena(options.threads, [&] {
-      Compressor compressor(options, books, vqRingBasesFor(*sources[group_first[g]], books.layout, options));
+      const VqBtf::Impl* seed_group = seed ? seed->groupOf(books.layout) : nullptr;
+      Compressor compressor(options, books,
+                            seed_group ? std::vector<VqRingBasis>{}
+                                       : vqRingBasesFor(*sources[group_first[g]], books.layout, options),
+                            seed_group);
       for (std::size_t i = 0; i < sources.size(); ++i)
         if (group_of[i] == g) compressor.run(*sources[i], *impls[i]);
     });
@@ -929,6 +982,26 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
   VqDatabase database(std::move(materials));
   database.setSeconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return database;
+}
+
+}  // namespace
+
+VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
+                              const VqOptions& options) {
+  return compressVqDatabaseFrom(sources, names, options, nullptr);
+}
+
+VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
+                              const VqOptions& options, const VqCodebooks& seed) {
+  const VqOptions& s = seed.options();
+  if (s.levels != options.levels || s.epsilon != options.epsilon || s.chroma_epsilon != options.chroma_epsilon ||
+      s.energy_floor != options.energy_floor)
+    throw Error("the seed codebooks were made with other options (levels " + std::to_string(s.levels) + ", epsilon " +
+                std::to_string(s.epsilon) + ", chroma_epsilon " + std::to_string(s.chroma_epsilon) + ", energy_floor " +
+                std::to_string(s.energy_floor) + ") than this compression's");
+  if (options.level1_cut)
+    throw Error("compression from seed codebooks does not take level1_cut (each part would learn its own level-1 bases)");
+  return compressVqDatabaseFrom(sources, names, options, &seed.impl());
 }
 
 }  // namespace btf
