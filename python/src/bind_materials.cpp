@@ -49,13 +49,27 @@ std::string materialRepr(const PyMaterial& m) { return "<btf.Material " + m.mate
 
 // eval(wi, wo, uv): one wo and one uv for all rows go through evalMany (the stream call), else a
 // loop of eval.
-py::array materialEval(const PyMaterial& self, const py::handle& wi_in, const py::handle& wo_in, const py::handle& uv_in) {
+py::array materialEval(const PyMaterial& self, const py::handle& wi_in, const py::handle& wo_in, const py::handle& uv_in,
+                       const py::handle& out_in) {
   const Rows wi = toRows(wi_in, "wi", 3), wo = toRows(wo_in, "wo", 3);
   std::optional<Rows> uv;
   if (!uv_in.is_none()) uv = toRows(uv_in, "uv", 2);
   const std::size_t n = broadcastRows({{&wi, "wi"}, {&wo, "wo"}, {uv ? &*uv : nullptr, "uv"}});
   const bool single = wi.single && wo.single && (!uv || uv->single);
-  FloatArray out = single ? newFloatArray({3}) : newFloatArray({py::ssize_t(n), 3});
+  FloatArray out;
+  if (out_in.is_none()) {
+    out = single ? newFloatArray({3}) : newFloatArray({py::ssize_t(n), 3});
+  } else {
+    // The caller's buffer, written in place: float32, C-contiguous, writeable, of the result's shape.
+    const auto given = py::reinterpret_borrow<py::array>(out_in);
+    const bool fits = py::isinstance<py::array_t<float>>(out_in) && (given.flags() & py::array::c_style) &&
+                      given.writeable() && given.ndim() == (single ? 1 : 2) &&
+                      (single ? given.shape(0) == 3 : given.shape(0) == py::ssize_t(n) && given.shape(1) == 3);
+    if (!fits)
+      throw py::value_error("out: expected a writeable, C-contiguous float32 array of shape " +
+                            std::string(single ? "(3,)" : "(" + std::to_string(n) + ", 3)"));
+    out = py::reinterpret_borrow<FloatArray>(out_in);
+  }
   Rgb* f = reinterpret_cast<Rgb*>(out.mutable_data());
   const Material& material = *self.material;
   {
@@ -73,6 +87,7 @@ py::array materialEval(const PyMaterial& self, const py::handle& wi_in, const py
                              pu ? pu[uv->single ? 0 : k] : glm::vec2(0.0f));
     }
   }
+  if (!out_in.is_none()) return out;
   return inPrecision(std::move(out), wi.float64 || wo.float64);
 }
 
@@ -197,14 +212,16 @@ float32. The loops run in C++ without the GIL.)doc")
                              "True when f depends on the azimuth of the half vector, not only on relative angles.")
       .def_property_readonly("is_reciprocal", [](const PyMaterial& s) { return s.material->isReciprocal(); },
                              "True when eval(wi, wo) == eval(wo, wi) by construction.")
-      .def("eval", &materialEval, py::arg("wi"), py::arg("wo"), py::arg("uv") = py::none(),
-           R"doc(eval(wi, wo, uv=None) -> array (N, 3) or (3,)
+      .def("eval", &materialEval, py::arg("wi"), py::arg("wo"), py::arg("uv") = py::none(), py::arg("out") = py::none(),
+           R"doc(eval(wi, wo, uv=None, out=None) -> array (N, 3) or (3,)
 
 Reflectance f(wi, wo) in 1/sr per RGB channel; 0 below the horizon.
   wi  light directions, (N, 3) or (3,)
   wo  view directions, (N, 3) or (3,); one wo for all rows uses the material's stream
       call (Material::evalMany), the fastest path
   uv  surface positions (N, 2) or (2,), for BTFs; None: (0, 0)
+  out a float32 C-contiguous array of the result's shape to write into and return (no
+      new array: repeated calls on large N skip the allocation and its page faults)
 Returns (3,) when every argument is one row.)doc")
       .def("pdf", &materialPdf, py::arg("wi"), py::arg("wo"), py::arg("uv") = py::none(),
            R"doc(pdf(wi, wo, uv=None) -> array (N,) or float

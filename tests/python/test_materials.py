@@ -63,6 +63,15 @@ def test_eval_matches_scalar_calls(material):
         assert np.all(many[wi[:, 2] <= 0] == 0)  # nothing below the horizon
 
 
+def test_eval_into_a_given_array(ggx):
+    wi, wo = _lights(30), btf.direction(25)
+    out = np.empty((30, 3), np.float32)
+    assert ggx.eval(wi, wo, out=out) is out
+    np.testing.assert_array_equal(out, ggx.eval(wi, wo))
+    with pytest.raises(ValueError, match=r"out: expected a writeable, C-contiguous float32 array of shape \(30, 3\)"):
+        ggx.eval(wi, wo, out=np.empty((30, 3), np.float64))
+
+
 def test_float64_in_float64_out(ggx):
     wi, wo = _lights(50), btf.direction(40)
     f32 = ggx.eval(wi, wo)

@@ -1,7 +1,8 @@
 """What the Python binding costs per sample: Material.eval and Material.sample through btf (numpy
 in, numpy out, the GIL released) against the library's own C++ calls on the same arrays, timed in
 C++ by btf._bench (Material::evalMany, the stream call; a C++ loop of Material::sample, which has
-no stream form). Prints seconds per call and the ratio Python / C++ for each material and N.
+no stream form). Prints seconds per call and the ratio Python / C++ for each material and N;
+"eval out" passes a preallocated result (out=), as the C++ timing does.
 The goal: a ratio of at most 1.2 for N >= 1e5.
 
     /usr/bin/python3 tools/bench/python_overhead.py [--build build-py] [--repeats 5]
@@ -59,7 +60,7 @@ def main():
     sizes = [int(float(s)) for s in args.sizes.split(",")]
     wo = btf.direction(35, 10)
     print(f"package: {btf.__file__}; fastest of {args.repeats} runs; ratio = Python / C++ per call")
-    print(f"{'material':28s} {'call':7s} {'N':>8s} {'python s':>10s} {'c++ s':>10s} {'ns/sample':>10s} {'ratio':>6s}")
+    print(f"{'material':28s} {'call':8s} {'N':>8s} {'python s':>10s} {'c++ s':>10s} {'ns/sample':>10s} {'ratio':>6s}")
     with tempfile.TemporaryDirectory() as tmp:
         for name, material in materials(pathlib.Path(tmp)):
             for n in sizes:
@@ -70,11 +71,14 @@ def main():
                 u = rng.random((n, 2)).astype(np.float32)
                 material.eval(wi[:1000], wo)  # first-call set-up out of the timing
                 py_eval = fastest(args.repeats, lambda: material.eval(wi, wo))
+                buffer = np.empty((n, 3), np.float32)
+                py_eval_out = fastest(args.repeats, lambda: material.eval(wi, wo, out=buffer))
                 cpp_eval = btf._bench.eval_stream_seconds(material, wo, wi, args.repeats)
                 py_sample = fastest(args.repeats, lambda: material.sample(wo, u))
                 cpp_sample = btf._bench.sample_loop_seconds(material, wo, u, args.repeats)
-                for call, p, c in (("eval", py_eval, cpp_eval), ("sample", py_sample, cpp_sample)):
-                    print(f"{name:28s} {call:7s} {n:8d} {p:10.5f} {c:10.5f} {p / n * 1e9:10.1f} {p / c:6.3f}")
+                for call, p, c in (("eval", py_eval, cpp_eval), ("eval out", py_eval_out, cpp_eval),
+                                   ("sample", py_sample, cpp_sample)):
+                    print(f"{name:28s} {call:8s} {n:8d} {p:10.5f} {c:10.5f} {p / n * 1e9:10.1f} {p / c:6.3f}")
 
 
 main()

@@ -36,6 +36,10 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   gnuplot-nox             # charts (PNG and SVG) of btf bench and btf sample
   fonts-dejavu-core       # the font of plot labels and charts
+  pybind11-dev python3-dev  # the Python package btf (python/): pybind11 and Debian python3's headers
+  python3-numpy           # btf's arrays (directions, reflectance, BTF views, renders)
+  python3-pytest          # the Python package's tests (tests/python, ctest -L python)
+  python3-matplotlib      # plots of docs/python.md's session (docs/examples/python_session.py)
   python3-dask python3-distributed  # btf.dask: a dataset compressed on a Dask cluster (python3 -m btf.dask)
 )
 
@@ -58,6 +62,18 @@ build() {  # build DIR [extra cmake args...]
   echo "== building in $dir"
   cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
   cmake --build "$dir" -j"$jobs" ${BUILD_TARGET:+--target $BUILD_TARGET}
+}
+
+# `import btf` in Debian's python3 (docs/python.md#installing): a .pth file in its user site naming
+# the build's python/ folder. Not pip: Debian 12's pip refuses the system site (PEP 668), and a wheel
+# would need a build backend Debian 12 does not package; a rebuild is seen without reinstalling.
+python_path() {  # python_path BUILD_DIR
+  [ -d "$1/python/btf" ] || return 0
+  local site
+  site=$(/usr/bin/python3 -m site --user-site)
+  mkdir -p "$site"
+  echo "$root/$1/python" > "$site/libbtf.pth"
+  echo "== /usr/bin/python3 imports btf from $root/$1/python ($site/libbtf.pth)"
 }
 
 demo() {
@@ -159,9 +175,9 @@ demo() {
 
 install_packages
 case "$job" in
-  demo) # The demo runs the two programs alone: the test programs and benchmarks are not built.
-        BUILD_TARGET="btf_cli btf_datagen" build build -DCMAKE_BUILD_TYPE=Release; demo ;;
-  test) build build -DCMAKE_BUILD_TYPE=Release
+  demo) # The demo builds the two programs and the Python package alone: the test programs and benchmarks are not.
+        BUILD_TARGET="btf_cli btf_datagen btf_python" build build -DCMAKE_BUILD_TYPE=Release; python_path build; demo ;;
+  test) build build -DCMAKE_BUILD_TYPE=Release; python_path build
         ctest --test-dir build --output-on-failure -j"$jobs" ;;
   asan) # Only the library's tests (and the library guide's examples) run under the sanitizers: building the command-line programs a
         # second time would double CI's compile time, and their tests run in the Release pass.
