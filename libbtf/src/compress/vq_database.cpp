@@ -139,6 +139,8 @@ class EntryInterner {
 
 }  // namespace
 
+std::vector<ContainerSection> vqDatabaseSections(const VqDatabase& database) { return databaseSections(database.materials()); }
+
 VqDatabase::VqDatabase(std::vector<VqBtf> materials) : materials_(std::move(materials)) {
   if (materials_.empty()) throw Error("a VQ database needs at least one material");
   std::set<std::string> seen;

@@ -25,6 +25,10 @@ namespace vq_dataset_detail {
 
 constexpr const char* kVqCodebooksFormat = "libbtf-vq-codebooks";
 constexpr int kVqCodebooksVersion = 1;
+// The zstd level of bytes between processes: they are read once, soon after; the level of files
+// (vqZstdLevelFor) would cost more time than the bytes it saves on the way. The final file is
+// written by VqDatabase::write at its own level.
+constexpr int kVqTransportZstdLevel = 1;
 
 std::string codebookGroupPrefix(std::size_t g) { return "group" + std::to_string(g) + "/"; }
 
@@ -360,7 +364,7 @@ std::vector<std::byte> VqCodebooks::toBytes() const {
   addVqHeaderSection(header, sections);
   for (std::size_t g = 0; g < impl_->groups.size(); ++g) addVqSharedSections(impl_->groups[g], sections, codebookGroupPrefix(g));
   ScratchFile file;
-  writeContainer(file.path(), sections, vqZstdLevelFor(sections));
+  writeContainer(file.path(), sections, kVqTransportZstdLevel);
   return file.bytes();
 }
 
@@ -436,9 +440,10 @@ VqCodebooks mergeVqCodebooks(std::span<const VqCodebooks> parts, std::span<const
   return VqCodebooks(std::move(impl));
 }
 
-std::vector<std::byte> vqDatabaseBytes(VqDatabase& database) {
+std::vector<std::byte> vqDatabaseBytes(const VqDatabase& database) {
+  std::vector<ContainerSection> sections = vqDatabaseSections(database);
   ScratchFile file;
-  database.write(file.path());
+  writeContainer(file.path(), sections, kVqTransportZstdLevel);
   return file.bytes();
 }
 

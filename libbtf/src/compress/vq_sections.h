@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "btf/compress/vq_database.h"
 #include "btf/io/container.h"
 #include "vq_impl.h"
 
@@ -53,6 +54,8 @@ int vqSectionsVersion(const VqBtf::Impl& m);
 // a database's first ring layout, "group<g>/" for its layout g >= 1).
 void addVqSharedSections(const VqBtf::Impl& m, std::vector<ContainerSection>& sections, const std::string& prefix);
 void addVqMaterialSections(const VqBtf::Impl& m, const std::string& prefix, std::vector<ContainerSection>& sections);
+// A database's sections, as VqDatabase::write stores them (vq_database.cpp).
+std::vector<ContainerSection> vqDatabaseSections(const VqDatabase& database);
 // The zstd level the writer uses for these sections, and the file size they will make.
 int vqZstdLevelFor(const std::vector<ContainerSection>& sections);
 std::uint64_t vqSectionsBytes(const std::vector<ContainerSection>& sections);

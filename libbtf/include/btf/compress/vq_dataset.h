@@ -53,7 +53,7 @@ class VqCodebooks {
   // Entries summed over the groups, as VqDatabase::sharedEntries counts them.
   std::vector<std::size_t> entries() const;
 
-  // A .btfz container (format "libbtf-vq-codebooks") as bytes, and back; fromBytes throws
+  // A .btfz container (format "libbtf-vq-codebooks", at a fast zstd level) as bytes, and back; fromBytes throws
   // FileError naming `label` for bytes that are not one.
   std::vector<std::byte> toBytes() const;
   static VqCodebooks fromBytes(std::span<const std::byte> bytes, const std::string& label = "codebooks");
@@ -76,8 +76,9 @@ VqCodebooks mergeVqCodebooks(std::span<const VqCodebooks> parts, std::span<const
 VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const std::vector<std::string>& names,
                               const VqOptions& options, const VqCodebooks& seed);
 
-// A database as the bytes of its .btfz file, and back (fromBytes throws FileError naming `label`).
-std::vector<std::byte> vqDatabaseBytes(VqDatabase& database);
+// A database as the bytes of a .btfz file (the sections of its file, compressed at a fast zstd
+// level: bytes between processes, not for storage), and back (throws FileError naming `label`).
+std::vector<std::byte> vqDatabaseBytes(const VqDatabase& database);
 VqDatabase vqDatabaseFromBytes(std::span<const std::byte> bytes, const std::string& label = "database");
 
 // Tiles of a width x height BTF for `parts` parts: a grid of about equal rectangles, row by row
