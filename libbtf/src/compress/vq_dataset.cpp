@@ -29,6 +29,20 @@ constexpr int kVqCodebooksVersion = 1;
 // (vqZstdLevelFor) would cost more time than the bytes it saves on the way. The final file is
 // written by VqDatabase::write at its own level.
 constexpr int kVqTransportZstdLevel = 1;
+// The merge's searches, as the compressor's below level 3: at most this many kd-tree node visits per
+// segment (codebook.h), so that a search costs about the same whatever the codebook's size; a missed
+// entry within the tolerance costs a merged entry, never accuracy (the re-code checks every reuse).
+constexpr int kMergeMaxVisits = 16;
+// Entries added between two index() calls (the compressor's chunk): the rest of a codebook is
+// searched in its kd-trees, the entries not yet indexed by a linear scan.
+constexpr std::size_t kMergeIndexEvery = 128;
+const Codebook::SearchOptions kMergeSearch{0, kMergeMaxVisits};
+// Adds an entry to `book`, indexing every kMergeIndexEvery entries.
+std::uint32_t addIndexed(Codebook& book, std::span<const float> values) {
+  const std::uint32_t e = book.add(values);
+  if (book.size() % kMergeIndexEvery == 0) book.index();
+  return e;
+}
 
 std::string codebookGroupPrefix(std::size_t g) { return "group" + std::to_string(g) + "/"; }
 
@@ -142,11 +156,11 @@ class CodebookMerger {
     if (len > 0 && l1_[r].size() > 0) {
       std::vector<float> unit(n);
       for (std::size_t a = 0; a < n; ++a) unit[a] = float(v[a] / len);
-      l1_[r].search(unit, Codebook::chordRadius(out_.options.epsilon), 1, found_);
+      l1_[r].search(unit, Codebook::chordRadius(out_.options.epsilon), 1, found_, kMergeSearch);
       if (!found_.empty()) return found_.front().index;
     }
     out_.l1[r].insert(out_.l1[r].end(), codes, codes + n);
-    return l1_[r].add(v);
+    return addIndexed(l1_[r], v);
   }
   // Chromaticity: an absolute L2 distance <= chroma_epsilon between the functions, which bounds
   // the compressor's luminance-weighted error (weights of a unit luminance function) for any
@@ -162,7 +176,7 @@ class CodebookMerger {
       std::vector<float> unit(n2);
       for (std::size_t i = 0; i < n2; ++i) unit[i] = float(c[i] / len);
       const float radius = float(std::min(2.0 * tolerance / len, 1.415));
-      chroma_[r].search(unit, radius, 8, found_);
+      chroma_[r].search(unit, radius, 8, found_, kMergeSearch);
       for (const Codebook::Match& m : found_) {
         const float* e = chroma_[r].entry(m.index);
         double d2 = 0;
@@ -171,7 +185,7 @@ class CodebookMerger {
       }
     }
     out_.chroma[r].insert(out_.chroma[r].end(), grid, grid + n2);
-    return chroma_[r].add(c);
+    return addIndexed(chroma_[r], c);
   }
   // Level 2: the part's entry on the merged level-1 entries (each ring's scale refitted by least
   // squares to the merged entry), then the relative rule at epsilon on that reconstruction among
@@ -201,7 +215,7 @@ class CodebookMerger {
     if (!found && len > 0 && l2_.front().size() > 0) {
       std::vector<float> unit(L_);
       for (std::size_t l = 0; l < L_; ++l) unit[l] = float(recon[l] / len);
-      l2_.front().search(unit, Codebook::chordRadius(out_.options.epsilon), 8, found_);
+      l2_.front().search(unit, Codebook::chordRadius(out_.options.epsilon), 8, found_, kMergeSearch);
       for (const Codebook::Match& m : found_) {
         bool same = true;
         for (std::size_t r = 0; r < R_ && same; ++r)
@@ -218,7 +232,7 @@ class CodebookMerger {
       out_.l2_index.insert(out_.l2_index.end(), index.begin(), index.end());
       out_.l2_scale.insert(out_.l2_scale.end(), scale.begin(), scale.end());
       out_.l2_chroma.insert(out_.l2_chroma.end(), chroma.begin(), chroma.end());
-      to = l2_.front().add(recon);
+      to = addIndexed(l2_.front(), recon);
     }
     (void)to;  // level 3 is re-coded: the part's level-2 indices are not needed
   }

@@ -6,8 +6,9 @@
 //    compressVqDatabase; only its shared codebooks go on (VqCodebooks::of).
 // 2. Reduce: mergeVqCodebooks inserts the parts' shared entries one by one, in part order, into new
 //    codebooks (per ring layout: level 1 per ring, chromaticity per ring, level 2), searched with
-//    FLANN (compress/codebook.h): an entry within the tolerance of one already inserted maps to it,
-//    else it is added. Level 1 uses the compressor's relative rule at epsilon, chromaticity an
+//    FLANN (compress/codebook.h) in bounded searches, as the compressor's below level 3: an entry
+//    within the tolerance of one already inserted maps to it, else it is added (a missed match
+//    costs an entry, never accuracy). Level 1 uses the compressor's relative rule at epsilon, chromaticity an
 //    absolute L2 distance <= chroma_epsilon (which bounds the compressor's luminance-weighted
 //    error for any luminance), level 2 the relative rule on its reconstruction from the merged
 //    level-1 entries, with the same merged chromaticity per ring. The merged set is only a
