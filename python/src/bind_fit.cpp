@@ -116,19 +116,23 @@ void bindFit(py::module_& m) {
                " rel_rmse=" + std::to_string(f.fit.report.rel_rmse) + ">";
       });
 
-  m.def("fit", &fitTable, py::arg("data"), py::arg("model") = "ggx", py::arg("lobes") = 1,
-        py::arg("per_channel") = false, py::arg("starts") = 6, py::arg("max_iterations") = 100,
-        py::arg("objective") = "log", py::arg("energy_weight") = 1.0,
-        R"doc(fit(data, model='ggx', lobes=1, per_channel=False, starts=6, max_iterations=100,
-    objective='log', energy_weight=1.0) -> FitResult
+  const AnalyticFitOptions defaults;  // the library's default fit, as `btf fit`'s
+  m.def("fit", &fitTable, py::arg("data"), py::arg("model") = std::string(modelFamilyName(defaults.family)),
+        py::arg("lobes") = defaults.lobes, py::arg("per_channel") = defaults.per_channel, py::arg("starts") = defaults.starts,
+        py::arg("max_iterations") = defaults.max_iterations,
+        py::arg("objective") = std::string(fitObjectiveName(defaults.objective)),
+        py::arg("energy_weight") = defaults.energy_weight,
+        R"doc(fit(data, model='abc', lobes=1, per_channel=False, starts=6, max_iterations=100,
+    objective='linear', energy_weight=1.0) -> FitResult
 
-Fits an analytic model to an isotropic BRDF table with Ceres, as `btf fit`.
+Fits an analytic model to an isotropic BRDF table with Ceres, as `btf fit` (the defaults are its
+default fit).
   data           a path or spec opened as a MERL-layout table (a MERL .binary as stored, an
                  RGL file or model tabulated), or a btf.Material (tabulated first)
-  model          a fittable family: ggx, ggx2, abc, ward, lafortune, ...
+  model          a fittable family: abc, sgd, ggx, ggx2, ward, lafortune
   lobes          lafortune: 1 to 3;  per_channel: each channel its own lobe shapes
   starts         initial guesses screened;  max_iterations: per start
-  objective      'log' (robust, log-compressed) or 'linear' (the rel_rmse measure itself)
+  objective      'linear' (the rel_rmse measure itself) or 'log' (robust, log-compressed)
   energy_weight  weight of the directional-albedo term (0 leaves it out)
 Deterministic; runs in parallel over the starts.)doc");
 }

@@ -48,7 +48,7 @@ fs::path writeTwoSphereScene(const TempDir& dir) {
 
 // Few candidates, so that the test stays short.
 std::vector<std::string> fitScene(const fs::path& scene, const fs::path& lean, const std::string& budget) {
-  return {"fit-scene", scene.string(), "-o", lean.string(), "--budget", budget, "--fits", "ggx", "--tolerances", "0.1",
+  return {"fit-scene", scene.string(), "-o", lean.string(), "--budget", budget, "--fits", "ggx:log", "--tolerances", "0.1",
           "--epsilons", "0.1", "--no-samplers"};
 }
 

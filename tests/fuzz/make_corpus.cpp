@@ -326,6 +326,10 @@ void fit(const fs::path& out) {
   put(out / "abc.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "abc", "parameters": )"
                                     R"({"diffuse": [0.02, 0.02, 0.01], "a": [51.7, 37.9, 27.4], "b": 10482.1, "c": 0.8167, )"
                                     R"("ior": 2.2365}, )") + info);
+  put(out / "sgd.json", std::string(R"({"format": "libbtf-fit", "version": 1, "model": "sgd", "parameters": )"
+                                    R"({"diffuse": [0.05, 0.03, 0.02], "rho_s": [12.5, 7.25, 3.5], "alpha": 0.0123, "p": 0.459, )"
+                                    R"("f0": 0.0605, "f1": -0.0155, "kap": 1, "lambda": 3.12, "c": 1.71e-05, "k": 25, "theta0": 0}, )") +
+                            info);
   put(out / "lafortune.json", lafortune);
   put(out / "truncated.json", lafortune.substr(0, lafortune.size() / 2));
 }

@@ -19,6 +19,7 @@
 #include "btf/material/ggx.h"
 #include "btf/material/ggx_two_lobes.h"
 #include "btf/material/lafortune.h"
+#include "btf/material/lambert.h"
 #include "btf/material/tabulated_brdf.h"
 #include "btf/material/ward.h"
 #include "fit/fit_models.h"
@@ -37,6 +38,16 @@ glm::vec3 randomUpperDirection(std::mt19937& rng) {
   const float z = 0.05f + 0.95f * u(rng), phi = 6.2831853f * u(rng);
   const float r = std::sqrt(1.0f - z * z);
   return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// An SGD of the fitted form (analytic_fit.h): rho_d and rho_s per channel, one lobe shape.
+AnalyticParameters sgdOf(const Rgb& rho_d, const Rgb& rho_s, const SgdChannel& shape) {
+  AnalyticParameters p;
+  p.family = ModelFamily::Sgd;
+  p.diffuse = rho_d;
+  p.specular = rho_s;
+  p.sgd_shape = shape;
+  return p;
 }
 
 void expectClose(const double* model, const Rgb& material, const char* what) {
@@ -87,6 +98,16 @@ TEST(AnalyticFit, FitterFormulasMatchTheMaterials) {
       expectClose(f, Abc(AbcParameters{Rgb(0.02f, 0.03f, 0.04f), Rgb(51.7f, 37.9f, 27.4f), 10482.1, 0.8167, 2.2365}).eval(wi, wo),
                   "abc");
     }
+    {
+      const double w = 1.3 + 0.005 * (trial % 40);  // the shadowing's width, radians: G1 from 1 down to 0 near grazing
+      const double p[12] = {0.05, 0.03, 0.02, std::log(12.5), std::log(7.25), std::log(3.5), std::log(0.2 * alpha), 0.46, 0.06, -0.015,
+                            3.1, w};
+      double f[3];
+      fit::evalSgd(p, s, f);
+      const AnalyticParameters sgd = sgdOf(Rgb(0.05f, 0.03f, 0.02f), Rgb(12.5f, 7.25f, 3.5f),
+                                           {0, 0, 0.2 * alpha, 0.46, 0.06, -0.015, 1.0, 3.1, std::pow(w, -fit::kSgdFitK), fit::kSgdFitK, 0.0});
+      expectClose(f, makeAnalyticMaterial(sgd)->eval(wi, wo), "sgd");
+    }
   }
 }
 
@@ -100,6 +121,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxParametersFromItsTable) {
   const Rgb kd(0.3f, 0.2f, 0.1f), f0(0.04f, 0.05f, 0.06f);
   const Ggx truth(kd, f0, 0.15f, 0.15f);
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ggx;
   const AnalyticFit fit = fitTableOf(truth, options);
   test::expectGgxRecovered(fit.parameters, kd, f0, 0.15f, 0.05f);
@@ -111,6 +133,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardParametersFromItsTable) {
   const Rgb kd(0.1f, 0.3f, 0.5f), ks(0.2f, 0.15f, 0.1f);
   const Ward truth(kd, ks, 0.1f, 0.1f);
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ward;
   const AnalyticFit fit = fitTableOf(truth, options);
   EXPECT_NEAR(fit.parameters.alpha, 0.1f, 0.005f);
@@ -125,6 +148,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversOneLafortuneLobeFromItsTable) {
   const Rgb kd(0.2f, 0.2f, 0.1f), rho(0.3f, 0.4f, 0.5f);
   const Lafortune truth(kd, {{rho, glm::vec3(-1.0f, -1.0f, 1.0f), 60.0f}});
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Lafortune;
   const AnalyticFit fit = fitTableOf(truth, options);
   ASSERT_EQ(fit.parameters.lobes.size(), 1u);
@@ -149,6 +173,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromANoisyTable) {
   for (double& v : table.values)
     if (v > 0) v *= std::exp(gauss(rng) - 0.005);  // mean 1
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ggx;
   options.starts = 3;
   const AnalyticFit fit = fitAnalytic(table, options);
@@ -167,6 +192,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
   for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; ++i)
     if (rng() % 5 != 0) table.setUnmeasured(i);
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ward;
   options.starts = 3;
   const AnalyticFit fit = fitAnalytic(table, options);
@@ -182,6 +208,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversWardFromAMostlyUnmeasuredTable) {
 BTF_SLOW_TEST(AnalyticFit, RecoversANearMirrorGgx) {
   const Rgb kd(0.01f), f0(0.55f, 0.56f, 0.55f);
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ggx;
   options.starts = 4;
   const AnalyticFit fit = fitTableOf(Ggx(kd, f0, 0.02f, 0.02f), options);
@@ -199,6 +226,8 @@ BTF_SLOW_TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearO
   const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "blue-acrylic", ModelFamily::Abc));
   AnalyticFitOptions options;
   options.family = ModelFamily::Ggx;
+  options.objective = FitObjective::Log;
+  options.energy_weight = 0;  // the objectives alone: one GGX lobe cannot also hold this table's albedo
   const AnalyticFit log_fit = fitAnalytic(table, options);
   options.objective = FitObjective::Linear;
   const AnalyticFit linear_fit = fitAnalytic(table, options);
@@ -214,6 +243,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversANarrowHighlightOnLongTailsBestWithTheLinearO
 BTF_SLOW_TEST(AnalyticFit, AModelThatCannotRepresentTheTableReportsAPoorFit) {
   const Lafortune retro(Rgb(0.05f), {{Rgb(0.6f), glm::vec3(1.0f, 1.0f, 1.0f), 30.0f}});
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ggx;
   options.starts = 2;
   options.max_iterations = 20;  // enough to see it fail; a converged GGX fits no better
@@ -228,6 +258,8 @@ BTF_SLOW_TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
   // Every 7th cell: a stride prime to the fitting grid's, so sampled cells are among them.
   for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; i += 7) table.setUnmeasured(i);
   AnalyticFitOptions options;
+  options.family = ModelFamily::Ggx;
+  options.objective = FitObjective::Log;
   options.starts = 2;
   const AnalyticFit fit = fitAnalytic(table, options);
   EXPECT_GT(fit.report.excluded, 0u);
@@ -239,6 +271,7 @@ BTF_SLOW_TEST(AnalyticFit, UnmeasuredCellsAreLeftOut) {
 BTF_SLOW_TEST(AnalyticFit, TheSameFitOnOneThreadAndOnSeveral) {
   const MerlTable table = tabulate(Ward(Rgb(0.2f), Rgb(0.1f), 0.2f, 0.2f));
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ward;
   options.starts = 3;
   options.max_iterations = 3;
@@ -266,6 +299,8 @@ BTF_SLOW_TEST(AnalyticFit, TheEnergyTermHoldsTheAlbedoOfAMetallicPaint) {
   const MerlFits fits = MerlFits::load(test::fitsDir());
   const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "gold-metallic-paint", ModelFamily::Abc));
   AnalyticFitOptions options;
+  options.family = ModelFamily::Ggx;
+  options.objective = FitObjective::Log;
   options.starts = 3;
   const AnalyticFit held = fitAnalytic(table, options);
   ASSERT_EQ(held.report.albedo.size(), kAlbedoCheckAnglesDeg.size());
@@ -285,6 +320,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversThePublishedAbcFitFromItsTable) {
   const MerlFits fits = MerlFits::load(test::fitsDir());
   const MerlTable table = tabulate(*makeMerlFitMaterial(fits, "alum-bronze", ModelFamily::Abc));
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Abc;
   options.starts = 2;
   const AnalyticFit fit = fitAnalytic(table, options);
@@ -295,6 +331,24 @@ BTF_SLOW_TEST(AnalyticFit, RecoversThePublishedAbcFitFromItsTable) {
   EXPECT_NEAR(fit.parameters.abc_b, published->parameters.b, 0.02 * published->parameters.b);
   EXPECT_NEAR(fit.parameters.abc_ior, published->parameters.ior, 0.02 * published->parameters.ior);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.parameters.specular[c], published->parameters.a[c], 0.02f * published->parameters.a[c]) << c;
+}
+
+// SGD is fittable in its fitted form (one lobe shape for all channels, the shadowing's k and theta0
+// fixed, kap 1: analytic_fit.h): a table of such an SGD gives its parameters back.
+BTF_SLOW_TEST(AnalyticFit, RecoversAnSgdOfTheFittedFormFromItsTable) {
+  const AnalyticParameters truth =
+      sgdOf(Rgb(0.06f, 0.04f, 0.02f), Rgb(8.0f, 5.0f, 3.0f), {0, 0, 0.02, 0.45, 0.08, 0.01, 1.0, 2.0, std::pow(1.4, -25.0), 25.0, 0.0});
+  const MerlTable table = tabulate(*makeAnalyticMaterial(truth));
+  AnalyticFitOptions options;
+  options.family = ModelFamily::Sgd;
+  options.starts = 2;
+  const AnalyticFit fit = fitAnalytic(table, options);
+  EXPECT_LT(fit.report.rel_rmse, 0.01);
+  const SgdChannel& g = fit.parameters.sgd_shape;
+  EXPECT_NEAR(g.alpha, 0.02, 0.002);
+  EXPECT_NEAR(g.p, 0.45, 0.05);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.parameters.diffuse[c], truth.diffuse[c], 0.005f) << c;
+  EXPECT_TRUE(fit.report.warnings.empty());
 }
 
 TEST(AnalyticFit, WarningsNameWhatIsWrong) {
@@ -317,6 +371,8 @@ TEST(AnalyticFit, BadOptionsAndEmptyTablesAreErrors) {
   MerlTable empty;
   for (std::size_t i = 0; i < MerlTable::kEntriesPerChannel; ++i) empty.setUnmeasured(i);
   AnalyticFitOptions options;
+  options.family = ModelFamily::Ggx;
+  options.objective = FitObjective::Log;
   try {
     (void)fitAnalytic(empty, options);
     ADD_FAILURE() << "no error";
@@ -330,6 +386,12 @@ TEST(AnalyticFit, BadOptionsAndEmptyTablesAreErrors) {
   options.lobes = 4;
   EXPECT_THROW((void)fitAnalytic(table, options), Error);
   EXPECT_THROW((void)parseModelFamily("phong", kFittableFamilies), Error);
+  try {  // a black table: nothing to fit
+    (void)fitAnalytic(tabulate(Lambert(Rgb(0.0f))), AnalyticFitOptions{});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("reflects nothing"));
+  }
   EXPECT_EQ(parseModelFamily("ward", kFittableFamilies), ModelFamily::Ward);
 }
 
@@ -345,6 +407,7 @@ TEST(AnalyticFitFile, RoundTripsEveryModel) {
                {{Rgb(0.3f, 0.2f, 0.1f), glm::vec3(-0.7f, -0.7f, 0.71f), 37.5f}, {Rgb(0.0f, 0.0f, 0.2f), glm::vec3(0.9f, 0.9f, 0.4f), 3.25f}}};
   models[3] = {ModelFamily::Ggx2, Rgb(0.1f, 0.2f, 0.3f), Rgb(0.04f, 0.5f, 1.0f), 0.31f, {}, Rgb(0.9f, 0.8f, 0.7f), 0.0123f};
   models[4] = {ModelFamily::Abc, Rgb(0.02f, 0.03f, 0.04f), Rgb(51.7f, 37.9f, 27.4f), 0.0f, {}, {}, 0.0f, 10482.1, 0.8167, 2.2365};
+  models.push_back(sgdOf(Rgb(0.05f, 0.03f, 0.02f), Rgb(12.5f, 7.25f, 3.5f), {0, 0, 0.0123, 0.459, 0.0605, -0.0155, 1.0, 3.12, 1.71e-5, 25.0, 0.0}));
   for (const AnalyticParameters& p : models) {
     fit.parameters = p;
     const fs::path path = dir / (std::string(modelFamilyName(p.family)) + ".json");
@@ -378,7 +441,7 @@ TEST(AnalyticFitFile, ErrorsNameTheFileAndTheKey) {
   expectError("{", "malformed JSON");
   expectError(R"({"format": "scene", "version": 1})", "/format");
   expectError(R"({"format": "libbtf-fit", "version": 2})", "/version: 2");
-  expectError(head + R"("model": "phong", "parameters": {}})", "unknown model 'phong' (expected lafortune, ggx, ward, ggx2 or abc)");
+  expectError(head + R"("model": "phong", "parameters": {}})", "unknown model 'phong' (expected lafortune, ggx, ward, ggx2, abc or sgd)");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0]}})", "missing \"alpha\"");
   expectError(head + R"("model": "ggx", "parameters": {"diffuse": [0.1, 0.1, 0.1], "f0": [0, 0, 0], "alpha": -1}})",
               "/parameters/alpha");

@@ -78,6 +78,7 @@ BTF_SLOW_TEST(AnalyticFit, RecoversGgxFromABtfTexel) {
     }
   const std::vector<MeasuredReflectance> data = texelMeasurements(btfTexel(btf, glm::ivec2(1, 0)));
   AnalyticFitOptions options;
+  options.objective = FitObjective::Log;
   options.family = ModelFamily::Ggx;
   const AnalyticFit fit = fitAnalytic(data, options);
   test::expectGgxRecovered(fit.parameters, kd, f0, 0.25f, 0.05f);
@@ -107,6 +108,8 @@ TEST(AnalyticFit, ScatteredDataLeavesOutUnusableMeasurementsAndNeedsEnough) {
   std::vector<MeasuredReflectance> mixed = data;
   mixed.insert(mixed.end(), bad.begin(), bad.end());
   AnalyticFitOptions options;
+  options.family = ModelFamily::Ggx;
+  options.objective = FitObjective::Log;
   options.starts = 2;
   const AnalyticFit fit = fitAnalytic(mixed, options);
   EXPECT_EQ(fit.report.samples, kMinimumFitSamples);

@@ -54,8 +54,8 @@ struct Args {
   std::string output = "bench-fits";
   std::string materials;  // comma-separated; empty: the 100 MERL materials
   std::string references = "sgd,abc,lafortune";
-  std::string models = "lafortune,ggx";  // ours; lafortune with one lobe, as Ngan's
-  std::string objectives = "log";        // each of our models is fitted with each objective
+  std::string models = "abc,ggx,lafortune";  // ours; lafortune with one lobe, as Ngan's
+  std::string objectives = fitObjectiveName(AnalyticFitOptions{}.objective);  // each model with each objective
   std::string fits_dir;
   std::vector<std::string> tables;  // files or folders of measured-style tables; empty: the published fits' tables
   int starts = 6;
@@ -70,9 +70,10 @@ struct Row {
   double albedo_error = -1;  // --tables: the largest albedo error at theta_o 0/30/60 (mean of RGB); -1: not measured
 };
 
-// "ours:ggx" for the default (log) objective, "ours:ggx:linear" for the linear one.
+// "ours:ggx" for the default objective (the library's), "ours:ggx:log" for the other one.
 std::string ourName(ModelFamily family, FitObjective objective) {
-  return std::string("ours:") + modelFamilyName(family) + (objective == FitObjective::Log ? "" : std::string(":") + fitObjectiveName(objective));
+  return std::string("ours:") + modelFamilyName(family) +
+         (objective == AnalyticFitOptions{}.objective ? "" : std::string(":") + fitObjectiveName(objective));
 }
 
 void writeCsv(const std::filesystem::path& path, const std::vector<Row>& rows) {
@@ -388,7 +389,7 @@ void addBenchFitsCommand(CLI::App& bench) {
   cmd->add_option("--materials", args->materials, "MERL names, comma-separated (default: the 100 MERL materials)");
   cmd->add_option("--references", args->references, "Published fits to tabulate as the tables (sgd, abc, lafortune)")
       ->capture_default_str();
-  cmd->add_option("--models", args->models, "Our models to fit (ggx, ward, lafortune with one lobe)")->capture_default_str();
+  cmd->add_option("--models", args->models, "Our models to fit (abc, sgd, ggx, ggx2, ward, lafortune with one lobe)")->capture_default_str();
   cmd->add_option("--objectives", args->objectives, "Objectives of our fits, comma-separated (log, linear; see btf fit)")
       ->capture_default_str();
   cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();

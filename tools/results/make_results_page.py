@@ -82,7 +82,7 @@ KNOWN = {
     "fits.csv": (
         "Fits: ours beside the published MERL fits",
         "btf bench fits",
-        ["material", "reference", "model", "ours", "rel_rmse", "converged", "seconds"],
+        ["material", "reference", "model", "ours", "rel_rmse", "albedo_error", "converged", "seconds"],
     ),
     "samplers.csv": (
         "Rendering: samplers at equal time",
@@ -135,6 +135,38 @@ def csv_section(path, root, columns):
            + (f"; columns shown: {len(shown)} of {len(fields)}" if len(shown) < len(fields) else "") + ":", ""]
     out.append(table(shown, rows) if rows else "(no rows)")
     return "\n".join(out)
+
+
+def fit_tables_summary(path):
+    """Per model, from a `btf bench fits --tables` CSV: how many tables keep the albedo within 10%
+    at theta_o 0/30/60, the median rel_rmse, how often rel_rmse is at most the best published
+    fit's (SGD or ABC) on the same table, and the fit times."""
+    with open(path, newline="") as f:
+        records = list(csv.DictReader(f))
+    if not any((r.get("albedo_error") or "").strip() for r in records):
+        return None
+    published = {}
+    for r in records:
+        if r["ours"] == "0" and r["model"] in ("sgd", "abc"):
+            value = float(r["rel_rmse"])
+            published[r["material"]] = min(published.get(r["material"], value), value)
+    rows = []
+    for model in sorted({r["model"] for r in records}):
+        mine = [r for r in records if r["model"] == model]
+        errors = sorted(float(r["rel_rmse"]) for r in mine)
+        albedo = [float(r["albedo_error"]) for r in mine if (r.get("albedo_error") or "").strip()]
+        compared = [r for r in mine if r["material"] in published]
+        beats = sum(float(r["rel_rmse"]) <= published[r["material"]] for r in compared)
+        seconds = sorted(float(r["seconds"]) for r in mine)
+        ours = mine[0]["ours"] == "1"
+        rows.append([model, str(len(mine)), f"{sum(a <= 0.1 for a in albedo)} of {len(albedo)}",
+                     fmt(str(errors[len(errors) // 2])),
+                     f"{beats} of {len(compared)}" if ours and compared else "",
+                     fmt(str(seconds[len(seconds) // 2])) if ours else "", fmt(str(seconds[-1])) if ours else ""])
+    header = ["model", "tables", "albedo within 10% at 0/30/60°", "median rel_rmse", "rel_rmse ≤ best published",
+              "median s", "max s"]
+    return ("Per model (computed from the CSV; \"best published\" is the lower of the SGD and ABC fits' rel_rmse "
+            "on the same table):\n\n" + table(header, rows))
 
 
 def decode_section(path, root):
@@ -266,6 +298,12 @@ def main():
     for name in ORDER:
         title, command, columns = KNOWN[name]
         for path in found[name]:
+            summary = fit_tables_summary(path) if name == "fits.csv" else None
+            if summary:
+                page += ["## Fits on measured-style tables", "", "Written by `btf bench fits --tables`.", "", summary, "",
+                         csv_section(path, root, columns), ""]
+                sections += 1
+                continue
             page += [f"## {title}", "", f"Written by `{command}`.", "", csv_section(path, root, columns), ""]
             sections += 1
             if name == "samplers.csv" and (path.parent / "summary.txt").is_file():

@@ -86,4 +86,19 @@ else
   echo "# btf bench fits skipped: no $data/fits" >>commands.txt
 fi
 
+# The default fit and the other models on measured-style tables: the shared NBRDF materials tabulated
+# on MERL's grid (../shared/tools/nbrdf-to-merl, which needs python3-h5py) and the shared RGL files,
+# beside the published fits of the same materials.
+nbrdf=$data/merl_nbrdf/merl_nbrdf_20.zip
+tabulate=$repo/../shared/tools/nbrdf-to-merl
+if [[ -f $nbrdf && -x $tabulate && -d $data/rgl_bsdf ]] && /usr/bin/python3 -c "import h5py" 2>/dev/null; then
+  echo "../shared/tools/nbrdf-to-merl --zip $nbrdf --all --out-dir merl-tables" >>commands.txt
+  "$tabulate" --zip "$nbrdf" --all --out-dir "$out/merl-tables" >/dev/null
+  run "$bin/btf" bench fits --tables "$out/merl-tables,$data/rgl_bsdf" --models abc,sgd,ggx,ggx2 --fits-dir "$data/fits" \
+    -o "$out/fits-tables"
+  rm -rf "$out/merl-tables"
+else
+  echo "# btf bench fits --tables skipped: no $nbrdf, $tabulate or python3-h5py" >>commands.txt
+fi
+
 /usr/bin/python3 "$repo/tools/results/make_results_page.py" "$out" -o "$repo/docs/results.md"

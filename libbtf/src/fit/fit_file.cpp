@@ -2,10 +2,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "btf/core/error.h"
@@ -61,6 +64,15 @@ class FitReader {
   const std::filesystem::path& path_;
 };
 
+// The SGD lobe shape's keys, in the published fits' names and order (the material checks the values).
+template <class Shape>
+auto sgdShapeKeys(Shape& s) {
+  using Value = std::conditional_t<std::is_const_v<Shape>, const double*, double*>;
+  return std::array<std::pair<const char*, Value>, 9>{{{"alpha", &s.alpha}, {"p", &s.p}, {"f0", &s.f0}, {"f1", &s.f1},
+                                                       {"kap", &s.kap}, {"lambda", &s.lambda}, {"c", &s.c}, {"k", &s.k},
+                                                       {"theta0", &s.theta0}}};
+}
+
 // The report's albedo checks, informative.
 json albedoJson(const std::vector<AlbedoCheck>& checks) {
   json a = json::array();
@@ -74,8 +86,11 @@ json albedoJson(const std::vector<AlbedoCheck>& checks) {
 void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, const std::string& source) {
   const AnalyticParameters& p = fit.parameters;
   // What is written is finite (a fit that diverged is an error, not a file).
+  const SgdChannel& sgd = p.sgd_shape;
   bool finite = p.diffuse.isFinite() && p.specular.isFinite() && std::isfinite(p.alpha) && p.specular_2.isFinite() &&
                 std::isfinite(p.alpha_2) && std::isfinite(p.abc_b) && std::isfinite(p.abc_c) && std::isfinite(p.abc_ior);
+  for (const double v : {sgd.alpha, sgd.p, sgd.f0, sgd.f1, sgd.kap, sgd.lambda, sgd.c, sgd.k, sgd.theta0})
+    finite = finite && std::isfinite(v);
   for (const LafortuneLobe& lobe : p.lobes)
     finite = finite && lobe.rho.isFinite() && std::isfinite(lobe.c.x) && std::isfinite(lobe.c.y) &&
              std::isfinite(lobe.c.z) && std::isfinite(lobe.exponent);
@@ -101,6 +116,11 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
       parameters["b"] = p.abc_b;
       parameters["c"] = p.abc_c;
       parameters["ior"] = p.abc_ior;
+      break;
+    case ModelFamily::Sgd:
+      // The published fits' names (sgd_bagher2012_merl.csv): rho_d is "diffuse", one shape for all channels.
+      parameters["rho_s"] = rgbJson(p.specular);
+      for (const auto& [key, value] : sgdShapeKeys(p.sgd_shape)) parameters[key] = *value;
       break;
     case ModelFamily::Lafortune: {
       json lobes = json::array();
@@ -128,6 +148,7 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
                       {"iterations", r.iterations},
                       {"seconds", r.seconds},
                       {"ceres", r.ceres_report},
+                      {"energy_weight", r.energy_weight},
                       {"albedo", albedoJson(r.albedo)},
                       {"warnings", r.warnings}}}};
   writeFileAtomically(path, [&](std::ofstream& out) { out << doc.dump(2) << '\n'; });
@@ -181,6 +202,12 @@ AnalyticParameters readFitFile(const std::filesystem::path& path) {
       p.abc_b = r.real(r.member(q, "b", "/parameters"), "/parameters/b", 1e-6, 1e10);
       p.abc_c = r.real(r.member(q, "c", "/parameters"), "/parameters/c", -1e3, 1e3);
       p.abc_ior = r.real(r.member(q, "ior", "/parameters"), "/parameters/ior", 1, 100);
+      break;
+    case ModelFamily::Sgd:
+      r.allowOnly(q, {"diffuse", "rho_s", "alpha", "p", "f0", "f1", "kap", "lambda", "c", "k", "theta0"}, "/parameters");
+      p.specular = r.rgb(r.member(q, "rho_s", "/parameters"), "/parameters/rho_s", 1e8);
+      for (const auto& [key, value] : sgdShapeKeys(p.sgd_shape))
+        *value = r.real(r.member(q, key, "/parameters"), std::string("/parameters/") + key, -1e38, 1e38);
       break;
     case ModelFamily::Ward:
       r.allowOnly(q, {"diffuse", "specular", "alpha"}, "/parameters");

@@ -107,6 +107,47 @@ void evalAbc(const T* p, const FitSample& s, T* f) {
   for (int c = 0; c < 3; ++c) f[c] = p[c] / T(kFitPi) + exp(p[3 + c]) * specular;
 }
 
+// The SGD (material/sgd.h, Bagher et al. 2012) with one lobe shape for the three channels and its
+// shadowing written as G1 = clamp(1 + lambda (1 - exp((theta / w)^k)), 0, 1) with k = kSgdFitK and
+// theta0 = 0 (the published form with c = w^-k): the published c spans forty decades and k a hundred,
+// a range no local solver crosses, while w is an angle in radians. kap is 1 (rho_s kap is one
+// degree of freedom). Parameters: rho_d[3], ln rho_s[3], ln alpha, p, f0, f1, lambda, w.
+inline constexpr double kSgdFitK = 25.0;
+
+template <class T>
+T sgdShadowing(const T& lambda, const T& w, double theta) {
+  using std::exp;
+  using std::log;
+  if (theta <= 0.0) return T(1);
+  const T t = exp(T(kSgdFitK) * (T(std::log(theta)) - log(w)));
+  if (t > T(40)) return lambda > T(0) ? T(0) : T(1);  // exp(t) would overflow; G1 is clamped to 0 there
+  const T g = T(1) + lambda * (T(1) - exp(t));
+  return g < T(0) ? T(0) : g;
+}
+
+template <class T>
+void evalSgd(const T* p, const FitSample& s, T* f) {
+  using std::exp;
+  using std::log;
+  const T alpha = exp(p[6]);
+  const T& power = p[7];
+  const T& f0 = p[8];
+  const T& f1 = p[9];
+  const double tan2_h = s.h_xy2 / s.h_z2;
+  const T ax = alpha + T(tan2_h) / alpha;
+  const T e = exp(-ax);
+  const T d = e > T(0) ? e / (T(kFitPi) * exp(power * log(ax)) * T(s.h_z2 * s.h_z2)) : T(0);
+  const double theta_i = std::acos(std::clamp(s.cos_i, -1.0, 1.0)), theta_o = std::acos(std::clamp(s.cos_o, -1.0, 1.0));
+  const T g = sgdShadowing(p[10], p[11], theta_i) * sgdShadowing(p[10], p[11], theta_o);
+  const double cos_d = std::min(s.half_length, 1.0);
+  const T fresnel = f0 - T(cos_d) * f1 + T(pow5(1.0 - cos_d)) * (T(1) - f0);
+  const T lobe = fresnel * d * g / T(s.cos_i * s.cos_o);
+  for (int c = 0; c < 3; ++c) {
+    const T value = (p[c] + exp(p[3 + c]) * lobe) / T(kFitPi);
+    f[c] = value > T(0) ? value : T(0);  // as the material clamps
+  }
+}
+
 // Parameters: kd[3], ks[3], ln(alpha).
 template <class T>
 void evalWard(const T* p, const FitSample& s, T* f) {

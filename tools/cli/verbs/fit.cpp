@@ -37,12 +37,14 @@ constexpr float kAlbedoAnglesDeg[] = {0.0f, 30.0f, 60.0f, 75.0f};
 constexpr std::uint32_t kBtfAlbedoSamples = 1u << 18;
 
 struct FitCommandOptions {
-  std::string in, out, model = "ggx", objective = "log";
+  std::string in, out;
+  // The library's default fit (AnalyticFitOptions): one place decides it.
+  std::string model = modelFamilyName(AnalyticFitOptions{}.family), objective = fitObjectiveName(AnalyticFitOptions{}.objective);
   std::vector<int> texel;  // empty, or x and y
   int lobes = 1, starts = 6, iterations = 100;
   bool per_channel = false, json = false, strict = false, no_energy = false;
   double energy_weight = 1.0;
-  std::string candidates = "ggx,ggx2,lafortune:2";  // --model auto, smallest first
+  std::string candidates = "ggx,abc,ggx2,sgd";  // --model auto, smallest first
   double auto_tolerance = 0.1;
 };
 
@@ -59,6 +61,13 @@ std::string parameterText(const AnalyticParameters& p) {
   if (p.family == ModelFamily::Ggx2)
     text += ", second lobe f0 " + rgbText(p.specular_2) + ", alpha " + std::to_string(p.alpha_2);
   if (p.family == ModelFamily::Ward) text += ", specular " + rgbText(p.specular) + ", alpha " + std::to_string(p.alpha);
+  if (p.family == ModelFamily::Sgd) {
+    const SgdChannel& g = p.sgd_shape;
+    char shape[200];
+    std::snprintf(shape, sizeof shape, ", rho_s %s, alpha %.4g, p %.4g, f0 %.4g, f1 %.4g, lambda %.4g, c %.4g, k %.4g",
+                  rgbText(p.specular).c_str(), g.alpha, g.p, g.f0, g.f1, g.lambda, g.c, g.k);
+    text += shape;
+  }
   if (p.family == ModelFamily::Abc)
     text += ", A " + rgbText(p.specular) + ", B " + std::to_string(p.abc_b) + ", C " + std::to_string(p.abc_c) + ", ior " +
             std::to_string(p.abc_ior);
@@ -167,12 +176,17 @@ void runFit(const FitCommandOptions& o) {
   else options.energy_weight = o.energy_weight;
   const FitData d = loadFitData(o);
   std::optional<AutoFit> automatic;
-  if (!candidates.empty()) {
-    if (!d.table) throw FileError(o.in, "--model auto chooses among fits to a table; fit a BTF texel with one --model");
-    automatic = fitSmallestModel(*d.table, candidates, o.auto_tolerance);
+  if (!candidates.empty() && !d.table)
+    throw FileError(o.in, "--model auto chooses among fits to a table; fit a BTF texel with one --model");
+  AnalyticFit fit;
+  try {  // the library's refusals of the data name no file: this one does
+    if (!candidates.empty()) automatic = fitSmallestModel(*d.table, candidates, o.auto_tolerance);
+    fit = automatic ? automatic->chosen : d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(o.in, e.what());
   }
-  AnalyticFit fit = automatic ? automatic->chosen
-                              : d.table ? fitAnalytic(*d.table, options) : fitAnalytic(d.measurements, options);
 
   nlohmann::json albedo = nlohmann::json::array();
   for (float deg : kAlbedoAnglesDeg) {
@@ -210,7 +224,7 @@ void runFit(const FitCommandOptions& o) {
                                 {"rel_rmse", r.rel_rmse}, {"converged", r.converged}, {"starts", r.starts},
                                 {"screening_converged", r.screening_converged}, {"iterations", r.iterations},
                                 {"samples", r.samples}, {"excluded", r.excluded}, {"seconds", r.seconds},
-                                {"energy_weight", options.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings},
+                                {"energy_weight", r.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings},
                                 {"candidates", candidatesJson(automatic)}}
                      .dump(2)
               << '\n';
@@ -223,8 +237,12 @@ void runFit(const FitCommandOptions& o) {
               "%d of them converged there\n",
               r.converged ? "converged" : "did NOT converge", r.iterations, r.seconds, r.starts,
               d.table ? "cells" : "measurements", r.screening_converged);
-  if (options.energy_weight > 0 && d.table)
-    std::printf("  energy term: albedo at theta_o 0/20/40/60/75 deg held to the data's, weight %g\n", options.energy_weight);
+  if (r.energy_weight > 0 && d.table) {
+    std::string angles;
+    for (const float deg : kEnergyAnglesDeg) angles += (angles.empty() ? "" : "/") + std::to_string(int(deg));
+    std::printf("  energy term: albedo at theta_o %s deg held to the data's, weight %g%s\n", angles.c_str(), r.energy_weight,
+                r.energy_weight > options.energy_weight ? " (raised: the albedo missed at the weight asked for)" : "");
+  }
   std::printf("  rel_rmse of f cos(theta_i) over the %s: %.4f\n", d.table ? "table" : "measurements", r.rel_rmse);
   std::printf("  albedo (mean of RGB)  ");
   for (float deg : kAlbedoAnglesDeg) std::printf("  %5.0f deg", double(deg));
@@ -268,16 +286,18 @@ void runFit(const FitCommandOptions& o) {
 void registerFitCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "fit",
-      "Fit an analytic model (ggx, ggx2, abc, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; the loss is robust on "
-      "ln(1 + f cos theta_i) (or, --objective linear, least squares of f cos theta_i: the rel_rmse itself), unmeasured cells left out. Writes the model as JSON, usable as a material by info, eval, plot, "
+      "Fit an analytic model (abc, sgd, ggx, ggx2, ward or lafortune with 1-3 lobes) to a measured table or a BTF texel with Ceres; by default "
+      "least squares of f cos theta_i within 80 degrees (the rel_rmse reported) plus an energy term that holds the albedo, or, --objective log, "
+      "a loss robust on ln(1 + f cos theta_i); unmeasured cells left out. Writes the model as JSON, usable as a material by info, eval, plot, "
       "sample and in scenes ({\"type\": \"fitted\", \"file\": ...})");
   auto o = std::make_shared<FitCommandOptions>();
   cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack, .bsdf, .octree) or BTF (image folder, .btfz)")->required();
   cmd->add_option("-o,--output", o->out, "The fitted model (.json), written atomically")->required();
   cmd->add_option("--model", o->model,
-                  "ggx, ggx2 (two GGX lobes over the diffuse term), abc (Low 2012, as the published MERL fits), ward, "
-                  "lafortune, or auto (the smallest of --candidates that fits as well as any of them and keeps the albedo)")
-      ->check(CLI::IsMember({"ggx", "ggx2", "abc", "ward", "lafortune", "auto"}))
+                  "abc (Low 2012, as the published MERL fits), sgd (Bagher 2012, one lobe shape for all channels), ggx, ggx2 "
+                  "(two GGX lobes over the diffuse term), ward, lafortune, or auto (the smallest of --candidates that fits as "
+                  "well as any of them and keeps the albedo)")
+      ->check(CLI::IsMember({"abc", "sgd", "ggx", "ggx2", "ward", "lafortune", "auto"}))
       ->capture_default_str();
   cmd->add_option("--candidates", o->candidates,
                   "--model auto: the models to try, smallest first, each family[:lobes][:linear|log]")
@@ -291,8 +311,8 @@ void registerFitCommand(CLI::App& app) {
       ->delimiter(',')
       ->expected(2);
   cmd->add_option("--objective", o->objective,
-                  "log: robust on ln(1 + f cos), every part of the lobe counts; linear: least squares of f cos within 80 degrees "
-                  "(the rel_rmse reported), which follows tall narrow highlights")
+                  "linear: least squares of f cos within 80 degrees (the rel_rmse reported), which follows tall narrow highlights; "
+                  "log: robust on ln(1 + f cos), every part of the lobe counts")
       ->check(CLI::IsMember({"log", "linear"}))
       ->capture_default_str();
   cmd->add_flag("--per-channel", o->per_channel, "Lafortune: each channel its own lobes (else shared lobes, RGB weights)");

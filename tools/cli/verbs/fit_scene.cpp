@@ -65,7 +65,7 @@ struct FitSceneOptions {
   int reference_spp_factor = 8;
   std::uint64_t seed = 1;
   int threads = 0;
-  std::string fits = "lafortune,ggx,ggx:linear,lafortune:2";
+  std::string fits = "lafortune:log,ggx:log,ggx:linear,abc,ggx2,lafortune:2:log";
   std::string tolerances = "0.1,0.03,0.01";
   std::string epsilons = "0.1,0.03";
   bool samplers = true;

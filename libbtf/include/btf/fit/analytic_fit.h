@@ -25,12 +25,17 @@
 //                                                           material/ggx_two_lobes.h
 //   abc        kd (RGB), A (RGB), B, C, ior (Löw et al. 2012, the published MERL fits' form)
 //                                                           material/abc.h
+//   sgd        rho_d (RGB), rho_s (RGB), and one lobe shape for all channels: alpha, p, f0, f1, and
+//              the shadowing's lambda and width w (Bagher et al. 2012 with c = w^-k, k = 25,
+//              theta0 = 0, kap = 1: src/fit/fit_models.h says why)    material/sgd.h
 //   ward       diffuse kd (RGB), specular ks (RGB), alpha   material/ward.h
 //   lafortune  diffuse kd (RGB), per lobe rho (RGB), c = (cxy, cxy, cz), exponent n
 //              (1 to 3 lobes; shared lobe shapes with RGB weights, or each channel its own)
 // Bounds: albedos in [0, 1]; alpha in [1e-3, 2]; ABC's A in [1e-6, 1e6], B in [1e-3, 1e8], C in
-// [0.01, 100], ior in [1.01, 10] (the published fits' ranges, widened); n in [1, 1e5]; c on the unit circle of (cxy, cz)
-// (only its direction matters in this normalization of the model).
+// [0.01, 100], ior in [1.01, 10] (the published fits' ranges, widened); SGD's rho_s in [1e-8, 1e5],
+// alpha in [1e-5, 2], p in [0, 2], f0 in [0, 10], f1 in [-1, 10], lambda in [0, 100], w in [0.5, 3]
+// radians (the published fits' ranges); n in [1, 1e5]; c on the unit circle of (cxy, cz) (only its
+// direction matters in this normalization of the model).
 //
 // The energy term (tables only). Neither objective sees the material's energy: the log objective
 // compresses the highlight, so a fit may trade a dim, wide lobe for a bright, narrow one of far
@@ -63,12 +68,13 @@
 #include "btf/material/lafortune.h"
 #include "btf/material/material.h"
 #include "btf/material/model_family.h"
+#include "btf/material/sgd.h"
 
 namespace btf {
 
 // The families the fitter knows (btf/material/model_family.h names them).
-inline constexpr std::array<ModelFamily, 5> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward,
-                                                                 ModelFamily::Ggx2, ModelFamily::Abc};
+inline constexpr std::array<ModelFamily, 6> kFittableFamilies = {ModelFamily::Lafortune, ModelFamily::Ggx, ModelFamily::Ward,
+                                                                 ModelFamily::Ggx2, ModelFamily::Abc, ModelFamily::Sgd};
 // The residuals minimized (see above): log-compressed and robust, or linear (the measure itself).
 enum class FitObjective { Log, Linear };
 
@@ -80,18 +86,22 @@ FitObjective parseFitObjective(std::string_view text);
 // file holds at most kMaxFitLobes x 3 lobes, as the fitter writes them.
 inline constexpr int kMaxFitLobes = 3;
 
+// The defaults are the default fit of `btf fit`: ABC under the linear objective with the energy
+// term. On tables of measured materials the measure is dominated by the tall highlight and its
+// grazing Fresnel rise, which ABC's long-tailed shape and ior follow and the log objective treats
+// as outliers (docs/fit.md shows the comparison).
 struct AnalyticFitOptions {
-  ModelFamily family = ModelFamily::Ggx;
+  ModelFamily family = ModelFamily::Abc;
   int lobes = 1;             // Lafortune: 1 to 3
   bool per_channel = false;  // Lafortune: each channel its own lobe shapes (3 x lobes lobes in all)
   int starts = 6;            // initial guesses, spread over the shape parameters (>= 1)
   int max_iterations = 100;  // per start
-  FitObjective objective = FitObjective::Log;
+  FitObjective objective = FitObjective::Linear;
   double energy_weight = 1.0;  // the energy term's weight (above); 0 leaves it out
 };
 
 // The view angles of the energy term, and those the report checks the albedo at.
-inline constexpr std::array<float, 5> kEnergyAnglesDeg = {0.0f, 20.0f, 40.0f, 60.0f, 75.0f};
+inline constexpr std::array<float, 6> kEnergyAnglesDeg = {0.0f, 15.0f, 30.0f, 45.0f, 60.0f, 75.0f};
 inline constexpr std::array<float, 3> kAlbedoCheckAnglesDeg = {0.0f, 30.0f, 60.0f};
 // A fit is reported with a warning when its albedo (mean of RGB) misses the data's by more than
 // this fraction at any of kAlbedoCheckAnglesDeg, or when its rel_rmse exceeds kFitRelRmseLimit.
@@ -105,6 +115,11 @@ struct AlbedoCheck {
   double rel_error = 0;  // |mean(fit) - mean(data)| / mean(data), means over RGB
 };
 AlbedoCheck albedoCheck(float theta_o_deg, const Rgb& data, const Rgb& fit);
+// Where a table's fit misses the albedo tolerance, fitAnalytic repeats it with the energy weight
+// raised by kEnergyRaiseFactor, at most kEnergyRaises times, and keeps the fit whose albedo is
+// closest (the report gives the weight that fit used).
+inline constexpr int kEnergyRaises = 2;
+inline constexpr double kEnergyRaiseFactor = 4.0;
 
 // The fitted parameters; which are used depends on the family.
 struct AnalyticParameters {
@@ -116,6 +131,9 @@ struct AnalyticParameters {
   Rgb specular_2 = {};                // ggx2: the second lobe's f0
   float alpha_2 = 0;                  // ggx2: the second lobe's alpha
   double abc_b = 1, abc_c = 1, abc_ior = 1.5;  // abc: B, C and ior (A is `specular`)
+  // sgd: the lobe shape of every channel (alpha, p, f0, f1, kap, lambda, c, k, theta0; its rho_d and
+  // rho_s are ignored: they are `diffuse` and `specular`).
+  SgdChannel sgd_shape = {};
 };
 
 // The Material of a parameter set (a Ggx, GgxTwoLobes, Ward or Lafortune). Throws btf::Error for parameters
@@ -134,6 +152,7 @@ struct AnalyticFitReport {
   double seconds = 0;          // wall time of the fit
   std::string ceres_report;    // Ceres' BriefReport of the chosen start (per channel: three lines)
   std::vector<AlbedoCheck> albedo;    // tables: at kAlbedoCheckAnglesDeg (scattered data: empty)
+  double energy_weight = 0;           // the energy term's weight of the fit kept (tables; 0: none)
   std::vector<std::string> warnings;  // fitWarnings of this report
 };
 
@@ -141,6 +160,8 @@ struct AnalyticFitReport {
 // kFitRelRmseLimit, an albedo off by more than kFitAlbedoTolerance (`btf fit` prints them, and
 // --strict makes them an error).
 std::vector<std::string> fitWarnings(const AnalyticFitReport& report);
+// The largest rel_error of report.albedo (0 when empty).
+double worstAlbedoError(const AnalyticFitReport& report);
 
 struct AnalyticFit {
   AnalyticParameters parameters;
