@@ -14,6 +14,8 @@
 #include <iterator>
 #include <random>
 
+#include <tbb/parallel_for.h>
+
 #include "btf/compress/codebook.h"
 #include "btf/core/error.h"
 #include "vq_codebooks.h"
@@ -129,14 +131,20 @@ class CodebookMerger {
 
   void insert(const VqBtf::Impl& part) {
     std::vector<std::vector<std::uint32_t>> l1_map(R_), chroma_map(R_);
-    for (std::size_t r = 0; r < R_; ++r) {
-      const std::size_t n = std::size_t(out_.ringSize(int(r)));
-      for (std::size_t e = 0; e < part.l1Count(int(r)); ++e) l1_map[r].push_back(insertLevel1(r, &part.l1[r][e * n], e == 0));
-      for (std::size_t c = 0; c < part.chromaCount(int(r)); ++c)
-        chroma_map[r].push_back(insertChroma(r, &part.chroma[r][c * 2 * n], c == 0));
-      l1_[r].index();
-      chroma_[r].index();
-    }
+    // Each ring's level-1 and chromaticity codebooks are merged on their own (parallel jobs, each
+    // sequential in entry order: the result does not depend on the threads).
+    tbb::parallel_for(std::size_t(0), 2 * R_, [&](std::size_t job) {
+      const std::size_t r = job / 2, n = std::size_t(out_.ringSize(int(r)));
+      std::vector<Codebook::Match> found;
+      if (job % 2 == 0) {
+        for (std::size_t e = 0; e < part.l1Count(int(r)); ++e) l1_map[r].push_back(insertLevel1(r, &part.l1[r][e * n], e == 0, found));
+        l1_[r].index();
+      } else {
+        for (std::size_t c = 0; c < part.chromaCount(int(r)); ++c)
+          chroma_map[r].push_back(insertChroma(r, &part.chroma[r][c * 2 * n], c == 0, found));
+        chroma_[r].index();
+      }
+    });
     if (out_.options.levels >= 2) {
       for (std::size_t e = 0; e < part.l2Count(); ++e) insertLevel2(part, e, l1_map, chroma_map);
       l2_.front().index();
@@ -147,7 +155,7 @@ class CodebookMerger {
  private:
   // The relative least-squares rule of level 1 (codebook.h) at epsilon. Entry 0 (the constant seed,
   // the same in every part) stays entry 0.
-  std::uint32_t insertLevel1(std::size_t r, const std::uint16_t* codes, bool seed) {
+  std::uint32_t insertLevel1(std::size_t r, const std::uint16_t* codes, bool seed, std::vector<Codebook::Match>& found) {
     const std::size_t n = std::size_t(out_.ringSize(int(r)));
     std::vector<float> v(n);
     for (std::size_t a = 0; a < n; ++a) v[a] = decodeVqEntryValue(codes[a]);
@@ -156,8 +164,8 @@ class CodebookMerger {
     if (len > 0 && l1_[r].size() > 0) {
       std::vector<float> unit(n);
       for (std::size_t a = 0; a < n; ++a) unit[a] = float(v[a] / len);
-      l1_[r].search(unit, Codebook::chordRadius(out_.options.epsilon), 1, found_, kMergeSearch);
-      if (!found_.empty()) return found_.front().index;
+      l1_[r].search(unit, Codebook::chordRadius(out_.options.epsilon), 1, found, kMergeSearch);
+      if (!found.empty()) return found.front().index;
     }
     out_.l1[r].insert(out_.l1[r].end(), codes, codes + n);
     return addIndexed(l1_[r], v);
@@ -165,7 +173,7 @@ class CodebookMerger {
   // Chromaticity: an absolute L2 distance <= chroma_epsilon between the functions, which bounds
   // the compressor's luminance-weighted error (weights of a unit luminance function) for any
   // luminance. Candidates by direction within a chord radius that such a distance cannot exceed.
-  std::uint32_t insertChroma(std::size_t r, const std::int32_t* grid, bool seed) {
+  std::uint32_t insertChroma(std::size_t r, const std::int32_t* grid, bool seed, std::vector<Codebook::Match>& found) {
     const std::size_t n2 = 2 * std::size_t(out_.ringSize(int(r)));
     std::vector<float> c(n2);
     for (std::size_t i = 0; i < n2; ++i) c[i] = float(grid[i]) * step_;
@@ -176,8 +184,8 @@ class CodebookMerger {
       std::vector<float> unit(n2);
       for (std::size_t i = 0; i < n2; ++i) unit[i] = float(c[i] / len);
       const float radius = float(std::min(2.0 * tolerance / len, 1.415));
-      chroma_[r].search(unit, radius, 8, found_, kMergeSearch);
-      for (const Codebook::Match& m : found_) {
+      chroma_[r].search(unit, radius, 8, found, kMergeSearch);
+      for (const Codebook::Match& m : found) {
         const float* e = chroma_[r].entry(m.index);
         double d2 = 0;
         for (std::size_t i = 0; i < n2; ++i) d2 += (double(e[i]) - c[i]) * (double(e[i]) - c[i]);
