@@ -164,6 +164,11 @@ demo() {
     "$bin/btf-datagen" scene distant -o "$out/fit-distant" --resolution 96 --spp 16
     "$bin/btf" fit-scene "$out/fit-closeup/scene.json" --budget 0.01 -o "$out/fit-closeup/lean.json"
     "$bin/btf" fit-scene "$out/fit-distant/scene.json" --budget 0.01 -o "$out/fit-distant/lean.json"
+    echo "== from Python (Debian's python3, import btf): docs/python.md's session, plots and renders into $out/python/;"
+    echo "   then two of the materials above compressed into one database on a local Dask cluster of two workers"
+    /usr/bin/python3 docs/examples/python_session.py "$out/python"
+    /usr/bin/python3 -m btf.dask "$out/fabric-btf" "$out/stones-dome.btf" -o "$out/dask-database.btfz" --local-workers 2 \
+      --epsilon 0.05
   else
     echo "(no $real beside the checkout: skipping the real-data part)"
   fi
