@@ -5,13 +5,18 @@ no stream form). Prints seconds per call and the ratio Python / C++ for each mat
 "eval out" passes a preallocated result (out=), as the C++ timing does.
 The goal: a ratio of at most 1.2 for N >= 1e5.
 
-    /usr/bin/python3 tools/bench/python_overhead.py [--build build-py] [--repeats 5]
+    /usr/bin/python3 tools/bench/python_overhead.py [--build build-py] [--repeats 5] [--csv out.csv]
 
-Materials: a GGX, a MERL-layout table made by btf-datagen (preset plastic-red), and the shared RGL
-file paper_white_rgb.bsdf when the shared data is beside the checkout.
+--csv writes the same rows as a CSV (material, call, n, python_s_per_sample, cpp_s_per_sample,
+ratio), the file tools/results/run_benches.sh puts on docs/results.md.
+
+Materials: a GGX, a MERL-layout table made by btf-datagen (preset plastic-red; BTF_DATAGEN names
+the program, default the build folder's bin/btf-datagen), and the shared RGL file
+paper_white_rgb.bsdf when the shared data is beside the checkout.
 """
 
 import argparse
+import csv
 import os
 import pathlib
 import subprocess
@@ -24,6 +29,7 @@ parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--build", default=None, help="build folder whose python/ and bin/ to use (default: build-py, then build)")
 parser.add_argument("--repeats", type=int, default=5, help="runs per timing; the fastest counts")
 parser.add_argument("--sizes", default="100000,1000000", help="comma-separated N")
+parser.add_argument("--csv", default=None, metavar="PATH", help="also write the rows as a CSV (written atomically)")
 args = parser.parse_args()
 build = pathlib.Path(args.build) if args.build else next(
     (repo / b for b in ("build-py", "build") if (repo / b / "python" / "btf").exists()), repo / "build")
@@ -46,7 +52,8 @@ def fastest(repeats, call):
 def materials(folder):
     yield "ggx", btf.create({"type": "ggx", "diffuse": [0.5, 0.1, 0.1], "f0": 0.04, "alpha": 0.2})
     table = folder / "plastic-red.binary"
-    subprocess.run([str(build / "bin" / "btf-datagen"), "--preset", "plastic-red", "--seed", "1", "-o", str(table)],
+    datagen = os.environ.get("BTF_DATAGEN") or str(build / "bin" / "btf-datagen")
+    subprocess.run([datagen, "--preset", "plastic-red", "--seed", "1", "-o", str(table)],
                    check=True, stdout=subprocess.DEVNULL)
     yield "merl table (plastic-red)", btf.open(table)
     rgl = pathlib.Path(os.environ.get("BTF_SHARED_DATA_DIR", repo.parent / "shared" / "data" / "real")) / "rgl_bsdf" / "paper_white_rgb.bsdf"
@@ -56,7 +63,18 @@ def materials(folder):
         print(f"(no {rgl}: the RGL material is left out)")
 
 
+def write_csv(path, rows):
+    """The rows as a CSV, written to PATH.tmp and renamed, so that PATH is whole or absent."""
+    tmp = f"{path}.tmp"
+    with open(tmp, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["material", "call", "n", "python_s_per_sample", "cpp_s_per_sample", "ratio"])
+        writer.writerows(rows)
+    os.replace(tmp, path)
+
+
 def main():
+    rows = []
     sizes = [int(float(s)) for s in args.sizes.split(",")]
     wo = btf.direction(35, 10)
     print(f"package: {btf.__file__}; fastest of {args.repeats} alternating runs; ratio = Python / C++ per call")
@@ -88,6 +106,9 @@ def main():
                 for call, p, c in (("eval", py_eval, cpp_eval), ("eval out", py_eval_out, cpp_eval),
                                    ("sample", py_sample, cpp_sample)):
                     print(f"{name:28s} {call:8s} {n:8d} {p:10.5f} {c:10.5f} {p / n * 1e9:10.1f} {p / c:6.3f}")
+                    rows.append([name, call, n, f"{p / n:.6g}", f"{c / n:.6g}", f"{p / c:.4f}"])
+    if args.csv:
+        write_csv(args.csv, rows)
 
 
 main()
