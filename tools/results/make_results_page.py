@@ -16,6 +16,8 @@ RUN_DIR is searched recursively for the files the benches write:
     fits.csv                        btf bench fits -o DIR
     samplers.csv, summary.txt       btf bench render -o DIR
     decode*.json                    btf bench decode FILE --json > DIR/decode.json
+    python_overhead.csv             tools/bench/python_overhead.py --csv DIR/python_overhead.csv
+    dask_scaling.csv                tools/bench/dask_scaling.py --csv DIR/dask_scaling.csv
 
 and, when tools/results/run_benches.sh made the folder, commands.txt (the commands it ran) and
 meta.json (date and commit of the run). Any other CSV found is tabulated whole. Nothing on the
@@ -89,8 +91,22 @@ KNOWN = {
         "btf bench render",
         ["sampler", "spp", "seconds", "relmse", "rel_rmse", "efficiency"],
     ),
+    "python_overhead.csv": (
+        "Python: a vectorised call against the C++ stream call",
+        "tools/bench/python_overhead.py",
+        ["material", "call", "n", "python_s_per_sample", "cpp_s_per_sample", "ratio"],
+    ),
+    "dask_scaling.csv": (
+        "Dask: a dataset compressed on 1 and 2 workers against one machine",
+        "tools/bench/dask_scaling.py",
+        ["run", "workers", "threads", "parts", "wall_s", "bytes", "bytes_vs_one_machine", "mean_rel_rmse",
+         "rel_rmse_vs_one_machine", "max_luminance_over_bound", "map_s", "reduce_s", "recode_s", "join_s",
+         "speedup_vs_1_worker", "same_file_as_1_worker"],
+    ),
 }
-ORDER = ["sampling.csv", "warp_comparison.csv", "rgl_writer.csv", "compression.csv", "compression_scaling.csv", "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv"]
+ORDER = ["sampling.csv", "warp_comparison.csv", "rgl_writer.csv", "compression.csv", "compression_scaling.csv",
+         "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv", "python_overhead.csv",
+         "dask_scaling.csv"]
 MAX_ROWS = 60
 
 
