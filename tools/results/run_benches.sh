@@ -36,7 +36,7 @@ run() {
     [[ -n $arg && ! $arg =~ [[:space:]] ]] || arg="'$arg'"
     recorded+="${recorded:+ }$arg"
   done
-  echo "$recorded" | sed -e "s|$bin/|build/bin/|g" -e "s|$out/||g" >>commands.txt
+  echo "$recorded" | sed -e "s|$bin/|build/bin/|g" -e "s|$out/||g" -e "s|$repo/||g" >>commands.txt
   nice -n 19 "$@"
 }
 
@@ -99,6 +99,29 @@ if [[ -f $nbrdf && -x $tabulate && -d $data/rgl_bsdf ]] && /usr/bin/python3 -c "
   rm -rf "$out/merl-tables"
 else
   echo "# btf bench fits --tables skipped: no $nbrdf, $tabulate or python3-h5py" >>commands.txt
+fi
+
+# The Python binding against the C++ calls, and btf.dask on a LocalCluster of 1 and 2 workers
+# against one machine (Debian's python3 with this build's package, numpy, dask and distributed).
+# The dask runs at one core per task (the scaling of workers alone), then at the default (a lone
+# worker uses every core); both write their rows into one CSV. 8 BTFs of 16 x 16 texels take about
+# 4 minutes a run on 2 cores (32 x 32 would take about four times as long).
+python_env=(env PYTHONPATH="$repo/build/python" BTF_DATAGEN="$bin/btf-datagen" /usr/bin/python3)
+if PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, numpy" 2>/dev/null; then
+  mkdir -p "$out/python"
+  run "${python_env[@]}" "$repo/tools/bench/python_overhead.py" --build "$repo/build" \
+    --csv "$out/python/python_overhead.csv"
+else
+  echo "# tools/bench/python_overhead.py skipped: no btf or numpy for /usr/bin/python3 with PYTHONPATH=build/python" >>commands.txt
+fi
+if PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, btf.dask, dask, distributed" 2>/dev/null; then
+  mkdir -p "$out/dask"
+  run "${python_env[@]}" "$repo/tools/bench/dask_scaling.py" --materials 8 --size 16 --threads 1 \
+    --csv "$out/dask/dask_scaling.csv"
+  run "${python_env[@]}" "$repo/tools/bench/dask_scaling.py" --materials 8 --size 16 \
+    --csv "$out/dask/dask_scaling.csv" --append
+else
+  echo "# tools/bench/dask_scaling.py skipped: no btf.dask, dask or distributed for /usr/bin/python3 with PYTHONPATH=build/python" >>commands.txt
 fi
 
 /usr/bin/python3 "$repo/tools/results/make_results_page.py" "$out" -o "$repo/docs/results.md"
