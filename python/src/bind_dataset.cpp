@@ -87,30 +87,6 @@ void openPart(const std::vector<PartItem>& items, OpenedPart& part) {
   }
 }
 
-// The luminance rel_rmse that vq_btf.h bounds, of `test` against `reference`, over the views held.
-double luminanceRelRmse(const BtfSource& reference, const BtfSource& test) {
-  std::vector<Rgb> a, b;
-  double err = 0, ref = 0;
-  for (int slot = 0; slot < reference.views().count(); ++slot) {
-    const int v = reference.views().view(slot);
-    reference.loadView(v, a);
-    test.loadView(v, b);
-    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
-      const double d = double(b[i].luminance()) - a[i].luminance();
-      err += d * d;
-      ref += double(a[i].luminance()) * a[i].luminance();
-    }
-  }
-  return ref > 0 ? std::sqrt(err / ref) : 0.0;
-}
-
-// vq_btf.h's bound on the luminance rel_rmse: (1 + e + 2 q)^levels - 1.
-double luminanceBound(const VqOptions& o) {
-  const double e = double(o.epsilon) * std::sqrt(1.0 + double(o.energy_floor) * o.energy_floor);
-  const double q = std::max(double(o.epsilon) / 16.0, 0.00034);
-  return std::pow(1.0 + e + 2.0 * q, o.levels) - 1.0;
-}
-
 py::dict describeInput(const std::string& path) {
   std::shared_ptr<const BtfSource> s;
   std::string description;
@@ -227,9 +203,10 @@ py::list materialErrors(const std::string& path, const std::vector<std::pair<std
       py::gil_scoped_release release;
       const VqBtf m = VqBtf::read(path, name);
       const std::shared_ptr<const BtfSource> reference = openInput(input);
-      rel = compareBtf(*reference, m).rel_rmse;
-      lum = luminanceRelRmse(*reference, m);
-      bound = luminanceBound(m.options());
+      const BtfErrorStats error = compareBtf(*reference, m);
+      rel = error.rel_rmse;
+      lum = error.luminance_rel_rmse;
+      bound = vqLuminanceBound(m.options());
     }
     py::dict d;
     d["name"] = name;

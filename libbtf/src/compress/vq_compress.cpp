@@ -1004,4 +1004,12 @@ VqDatabase compressVqDatabase(std::span<const BtfSource* const> sources, const s
   return compressVqDatabaseFrom(sources, names, options, &seed.impl());
 }
 
+double vqLuminanceBound(const VqOptions& o) {
+  const double e = double(o.epsilon) * std::sqrt(1.0 + double(o.energy_floor) * o.energy_floor);
+  // The stored rounding (vq_impl.h): within kVqQuantizationShare epsilon, and never finer than half
+  // the finest 16-bit log2 scale step, 2^(1 / 2048) - 1.
+  const double q = std::max(kVqQuantizationShare * double(o.epsilon), std::exp2(1.0 / 2048.0) - 1.0);
+  return std::pow(1.0 + e + 2.0 * q, o.levels) - 1.0;
+}
+
 }  // namespace btf

@@ -39,6 +39,7 @@ class BtfErrorSums {
 
  private:
   double squared_error_ = 0, squared_reference_ = 0, max_reference_ = 0;
+  double squared_luminance_error_ = 0, squared_luminance_ = 0;
 };
 
 }  // namespace btf

@@ -94,13 +94,17 @@ void requireComparableBtfs(const BtfSource& reference, const BtfSource& test) {
 }
 
 void BtfErrorSums::add(const std::vector<Rgb>& reference, const std::vector<Rgb>& test) {
-  for (std::size_t i = 0; i < reference.size(); ++i)
+  for (std::size_t i = 0; i < reference.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       const double r = reference[i][c], d = double(test[i][c]) - r;
       squared_error_ += d * d;
       squared_reference_ += r * r;
       max_reference_ = std::max(max_reference_, r);
     }
+    const double y = reference[i].luminance(), dy = double(test[i].luminance()) - y;
+    squared_luminance_error_ += dy * dy;
+    squared_luminance_ += y * y;
+  }
 }
 
 BtfErrorStats BtfErrorSums::stats(const BtfSource& reference) const {
@@ -112,6 +116,7 @@ BtfErrorStats BtfErrorSums::stats(const BtfSource& reference) const {
   s.reference_rms = std::sqrt(squared_reference_ / n);
   s.reference_max = max_reference_;
   s.rel_rmse = s.rmse / s.reference_rms;
+  s.luminance_rel_rmse = squared_luminance_ > 0 ? std::sqrt(squared_luminance_error_ / squared_luminance_) : 0.0;
   s.psnr_db = s.rmse > 0 ? 20.0 * std::log10(max_reference_ / s.rmse) : std::numeric_limits<double>::infinity();
   return s;
 }

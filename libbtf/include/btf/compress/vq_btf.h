@@ -98,6 +98,10 @@ struct VqOptions {
   bool level3_exceptions = true;
 };
 
+// The bound above on the luminance rel_rmse of a BTF compressed with these options against its
+// input: (1 + e + 2 q)^levels - 1 (compareBtf's luminance_rel_rmse measures it).
+double vqLuminanceBound(const VqOptions& options);
+
 struct VqStats {
   std::vector<std::size_t> codebook_entries;  // per level
   std::uint64_t compressed_bytes = 0;         // payload as stored in .btfz (after zstd)

@@ -127,11 +127,13 @@ inline std::size_t BtfData::slotOf(int view) const {
 }
 
 // Errors of one BTF against a reference over all entries and channels (docs/design-notes.md#measures):
-// rel_rmse = RMSE / RMS of the reference; psnr_db = 20 log10(max of the reference / RMSE).
+// rel_rmse = RMSE / RMS of the reference; psnr_db = 20 log10(max of the reference / RMSE);
+// luminance_rel_rmse the same of the luminance alone (what the VQ tolerances bound, vq_btf.h).
 // Over the reference's views; throws btf::Error if the sizes differ, the test lacks one of those
 // views, or the reference is all zero.
 struct BtfErrorStats {
   double rel_rmse = 0, psnr_db = 0, rmse = 0, reference_rms = 0, reference_max = 0;
+  double luminance_rel_rmse = 0;
   std::size_t entries = 0;
 };
 BtfErrorStats compareBtf(const BtfSource& reference, const BtfSource& test);
