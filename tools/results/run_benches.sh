@@ -7,7 +7,10 @@
 # BTF_BIN sets the folder of btf and btf-datagen (default build/bin); BTF_SHARED_DATA_DIR the
 # third-party data (default ../shared/data/real; the RGL and fits benches are skipped without it).
 # Everything runs at `nice -n 19`. The commands are recorded in OUT_DIR/commands.txt, and the
-# commit and machine in OUT_DIR/meta.json, so the page says what produced it.
+# commit and machine in OUT_DIR/meta.json, so the page says what produced it. BTF_BENCHES (comma-
+# separated: sampling, compression, compressibility, render, decode, rgl-writer, sampling-warp, fits,
+# fits-tables, python, dask) runs only those; the page is then written from that folder alone, and
+# make_results_page.py takes it after an earlier full run's folder to update those sections.
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -40,6 +43,9 @@ run() {
   nice -n 19 "$@"
 }
 
+# True when BTF_BENCHES is unset or names the bench.
+wanted() { [[ -z ${BTF_BENCHES:-} || ",${BTF_BENCHES}," == *",$1,"* ]]; }
+
 commit=$(git -C "$repo" rev-parse HEAD)
 dirty=false
 [[ -z $(git -C "$repo" status --porcelain --untracked-files=no) ]] || dirty=true
@@ -48,27 +54,33 @@ cat >meta.json <<META
  "system": "$(uname -sr)"}
 META
 
-run "$bin/btf" bench sampling --quick -o "$out/sampling"
-run "$bin/btf" bench compression --quick -o "$out/compression"
-run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns '' --no-brdfs -o "$out/compression-scaling"
-run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"
-run "$bin/btf" bench render --quick -o "$out/render"
+if wanted sampling; then run "$bin/btf" bench sampling --quick -o "$out/sampling"; fi
+if wanted compression; then
+  run "$bin/btf" bench compression --quick -o "$out/compression"
+  run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns '' --no-brdfs -o "$out/compression-scaling"
+fi
+if wanted compressibility; then run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"; fi
+if wanted render; then run "$bin/btf" bench render --quick -o "$out/render"; fi
 
 # Decoding needs a .btfz: a small synthetic BTF, compressed.
-mkdir -p "$out/decode"
-run "$bin/btf-datagen" btf --pattern fabric --size 16 --format exr -o "$out/decode/fabric"
-run "$bin/btf" compress "$out/decode/fabric" "$out/decode/fabric.btfz" --epsilon 0.05
-echo "build/bin/btf bench decode decode/fabric.btfz --samples 65536 --repeats 2 --json > decode/decode.json" >>commands.txt
-nice -n 19 "$bin/btf" bench decode "$out/decode/fabric.btfz" --samples 65536 --repeats 2 --json >"$out/decode/decode.json"
-rm -rf "$out/decode/fabric"
+if wanted decode; then
+  mkdir -p "$out/decode"
+  run "$bin/btf-datagen" btf --pattern fabric --size 16 --format exr -o "$out/decode/fabric"
+  run "$bin/btf" compress "$out/decode/fabric" "$out/decode/fabric.btfz" --epsilon 0.05
+  echo "build/bin/btf bench decode decode/fabric.btfz --samples 65536 --repeats 2 --json > decode/decode.json" >>commands.txt
+  nice -n 19 "$bin/btf" bench decode "$out/decode/fabric.btfz" --samples 65536 --repeats 2 --json >"$out/decode/decode.json"
+  rm -rf "$out/decode/fabric"
+fi
 
 # The RGL writer on its list of materials (GGX, Lambert, Phong, the presets, the shared RGL files).
-run "$bin/btf" bench rgl-writer -o "$out/rgl-writer"
+if wanted rgl-writer; then run "$bin/btf" bench rgl-writer -o "$out/rgl-writer"; fi
 
 # DP-CDF against the Dupuy-Jakob warp at equal memory, both built from the same MERL-layout table:
 # the presets, the shared RGL files and eight published MERL fits, each tabulated first. The library's
 # default tables (not --quick), since the comparison is at the bytes each sampler needs.
-if [[ -d $data/rgl_bsdf && -d $data/fits ]]; then
+if ! wanted sampling-warp; then
+  :
+elif [[ -d $data/rgl_bsdf && -d $data/fits ]]; then
   materials=white-diffuse,matte-clay,satin-paint,plastic-red,glossy-blue-plastic,brushed-metal,rough-gold,chrome
   for f in "$data"/rgl_bsdf/*.bsdf; do materials+=",$f"; done
   for m in gold-metallic-paint blue-acrylic chrome alum-bronze blue-fabric black-oxidized-steel dark-red-paint brass; do
@@ -79,7 +91,9 @@ else
   echo "# btf bench sampling --as-tables (dj-warp) skipped: no $data/rgl_bsdf or $data/fits" >>commands.txt
 fi
 
-if [[ -d $data/fits ]]; then
+if ! wanted fits; then
+  :
+elif [[ -d $data/fits ]]; then
   run "$bin/btf" bench fits --materials alum-bronze --references sgd --models ggx --objectives log,linear \
     --starts 2 --fits-dir "$data/fits" -o "$out/fits"
 else
@@ -91,7 +105,9 @@ fi
 # beside the published fits of the same materials.
 nbrdf=$data/merl_nbrdf/merl_nbrdf_20.zip
 tabulate=$repo/../shared/tools/nbrdf-to-merl
-if [[ -f $nbrdf && -x $tabulate && -d $data/rgl_bsdf ]] && /usr/bin/python3 -c "import h5py" 2>/dev/null; then
+if ! wanted fits-tables; then
+  :
+elif [[ -f $nbrdf && -x $tabulate && -d $data/rgl_bsdf ]] && /usr/bin/python3 -c "import h5py" 2>/dev/null; then
   echo "../shared/tools/nbrdf-to-merl --zip $nbrdf --all --out-dir merl-tables" >>commands.txt
   "$tabulate" --zip "$nbrdf" --all --out-dir "$out/merl-tables" >/dev/null
   run "$bin/btf" bench fits --tables "$out/merl-tables,$data/rgl_bsdf" --models abc,sgd,ggx,ggx2 --fits-dir "$data/fits" \
@@ -107,14 +123,18 @@ fi
 # worker uses every core); both write their rows into one CSV. 8 BTFs of 16 x 16 texels take about
 # 4 minutes a run on 2 cores (32 x 32 would take about four times as long).
 python_env=(env PYTHONPATH="$repo/build/python" BTF_DATAGEN="$bin/btf-datagen" /usr/bin/python3)
-if PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, numpy" 2>/dev/null; then
+if ! wanted python; then
+  :
+elif PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, numpy" 2>/dev/null; then
   mkdir -p "$out/python"
   run "${python_env[@]}" "$repo/tools/bench/python_overhead.py" --build "$repo/build" \
     --csv "$out/python/python_overhead.csv"
 else
   echo "# tools/bench/python_overhead.py skipped: no btf or numpy for /usr/bin/python3 with PYTHONPATH=build/python" >>commands.txt
 fi
-if PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, btf.dask, dask, distributed" 2>/dev/null; then
+if ! wanted dask; then
+  :
+elif PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "import btf, btf.dask, dask, distributed" 2>/dev/null; then
   mkdir -p "$out/dask"
   run "${python_env[@]}" "$repo/tools/bench/dask_scaling.py" --materials 8 --size 16 --threads 1 \
     --csv "$out/dask/dask_scaling.csv"
