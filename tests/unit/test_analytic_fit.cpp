@@ -349,6 +349,12 @@ BTF_SLOW_TEST(AnalyticFit, RecoversAnSgdOfTheFittedFormFromItsTable) {
   EXPECT_NEAR(g.p, 0.45, 0.05);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.parameters.diffuse[c], truth.diffuse[c], 0.005f) << c;
   EXPECT_TRUE(fit.report.warnings.empty());
+  // Without shadowing (lambda 0) a width whose c overflows exp still gives a finite SGD.
+  const AnalyticParameters unshadowed =
+      sgdOf(Rgb(0.06f, 0.04f, 0.02f), Rgb(8.0f), {0, 0, 0.02, 0.45, 0.08, 0.01, 1.0, 0.0, std::pow(0.5, -25.0), 25.0, 0.0});
+  const Rgb f = makeAnalyticMaterial(unshadowed)->eval(glm::normalize(glm::vec3(0.9f, 0.0f, 0.2f)), glm::vec3(0, 0, 1));
+  EXPECT_TRUE(f.isFinite());
+  EXPECT_GT(f.r, 0.0f);
 }
 
 TEST(AnalyticFit, WarningsNameWhatIsWrong) {

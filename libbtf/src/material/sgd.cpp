@@ -17,6 +17,8 @@ constexpr float kMinProposalAlpha = 1e-3f;
 constexpr float kMinDiffuseProbability = 0.1f;
 
 double shadowing1(const SgdChannel& s, double theta) {
+  // No shadowing without lambda; and where exp overflows (a large c), 0 * inf would be NaN.
+  if (s.lambda == 0) return 1.0;
   const double excess = std::max(0.0, theta - s.theta0);
   return std::clamp(1.0 + s.lambda * (1.0 - std::exp(s.c * std::pow(excess, s.k))), 0.0, 1.0);
 }
