@@ -120,8 +120,8 @@ fi
 # The Python binding against the C++ calls, and btf.dask on a LocalCluster of 1 and 2 workers
 # against one machine (Debian's python3 with this build's package, numpy, dask and distributed).
 # The dask runs at one core per task (the scaling of workers alone), then at the default (a lone
-# worker uses every core); both write their rows into one CSV. 8 BTFs of 16 x 16 texels take about
-# 4 minutes a run on 2 cores (32 x 32 would take about four times as long).
+# worker uses every core); both write their rows into one CSV. 16 x 16 texels keep the two runs short
+# (the time grows with the texel count).
 python_env=(env PYTHONPATH="$repo/build/python" BTF_DATAGEN="$bin/btf-datagen" /usr/bin/python3)
 if ! wanted python; then
   :
