@@ -75,7 +75,8 @@ CLI::App* addBtfCommand(CLI::App& app, BtfCommandOptions& o) {
       ->required();
   cmd->add_flag("--camera", o.camera,
                 "Record it as a measurement's camera does: registration error, sensor noise, 8-bit sRGB PNG clipped at\n"
-                "an auto-exposed white (the camera the print pattern is calibrated with; docs/design-notes.md)");
+                "an auto-exposed white (the camera the print pattern is calibrated with; docs/design-notes.md); with\n"
+                "--layout dfmf, fmf or pvf the .btf file factorises what the camera recorded");
   cmd->add_flag("--json", o.json, "Machine-readable summary");
   return cmd;
 }
@@ -84,22 +85,22 @@ void runBtfCommand(const BtfCommandOptions& o) {
   const synthetic::BtfPattern pattern = synthetic::parseBtfPattern(o.pattern);
   const BtfImageFormat format = parseFormat(o.format);
   const fs::path output = o.output;
+  const bool bonn_layout = o.layout == "dfmf" || o.layout == "fmf" || o.layout == "pvf";
   const fs::path parent = output.has_filename() ? output.parent_path() : output.parent_path().parent_path();
   // Fail before the work, not after it.
   if (o.value_scale > 0 && format == BtfImageFormat::Exr)
     throw Error("--value-scale applies to PNG only (EXR stores the values themselves)");
-  if (o.camera && (format != BtfImageFormat::Png8 || o.value_scale > 0))
+  if (o.camera && !bonn_layout && (format != BtfImageFormat::Png8 || o.value_scale > 0))
     throw Error("--camera writes 8-bit sRGB PNGs at its own exposure: it takes neither --format png16/exr nor --value-scale");
   if (!parent.empty() && !fs::is_directory(parent)) throw FileError(output, "folder " + parent.string() + " does not exist");
 
-  const bool bonn = o.layout == "dfmf" || o.layout == "fmf" || o.layout == "pvf";
+  const bool bonn = bonn_layout;
   if (bonn && output.extension() != ".btf")
     throw FileError(output, "--layout " + o.layout + " writes a Bonn .btf file: name it so (e.g. " +
                                 output.stem().string() + ".btf)");
   if (!bonn && o.directions != "ubo2003")
     throw Error("the " + o.layout + " image-folder layout holds the 81 UBO2003 directions; write the " + o.directions +
                 " set as a Bonn .btf file (--layout dfmf, fmf or pvf)");
-  if (bonn && o.camera) throw Error("--camera writes 8-bit PNG images; a .btf file stores factors");
 
   const auto start = std::chrono::steady_clock::now();
   synthetic::SyntheticBtfOptions synthetic_options;
@@ -109,27 +110,33 @@ void runBtfCommand(const BtfCommandOptions& o) {
   const std::unique_ptr<synthetic::SyntheticBtf> btf =
       synthetic::makeSyntheticBtf(pattern, o.size, o.size, o.seed, synthetic_options);
   if (bonn) {
+    // With --camera the file factorises what the measured camera recorded (its noise, registration
+    // error and 8-bit codes), as a measurement's .btf file factorises its images.
+    std::unique_ptr<synthetic::CameraBtf> camera;
+    if (o.camera) camera = std::make_unique<synthetic::CameraBtf>(*btf, synthetic::measuredCameraOptions(*btf, o.seed));
+    const BtfSource& recorded = camera ? static_cast<const BtfSource&>(*camera) : *btf;
     std::uint64_t file_bytes = 0;
     if (o.layout == "pvf") {
-      writeBonnBtfPvf(*btf, output, o.components, 2);
+      writeBonnBtfPvf(recorded, output, o.components, 2);
       file_bytes = fs::file_size(output);
     } else {
       BonnBtfWriteOptions bonn_options;
       bonn_options.layout = o.layout == "fmf" ? BonnBtfLayout::Fmf : BonnBtfLayout::Dfmf;
       bonn_options.max_components = o.components;
-      file_bytes = writeBonnBtf(*btf, output, bonn_options).bytes;
+      file_bytes = writeBonnBtf(recorded, output, bonn_options).bytes;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.json) {
       std::cout << nlohmann::json{{"output", o.output}, {"pattern", o.pattern},       {"size", o.size},
                                   {"seed", o.seed},     {"layout", o.layout},         {"directions", btf->directions().describe()},
-                                  {"bytes", file_bytes}, {"components", o.components}, {"seconds", seconds}}
+                                  {"bytes", file_bytes}, {"components", o.components}, {"seconds", seconds},
+                                  {"camera", o.camera}}
                        .dump(2)
                 << "\n";
       return;
     }
     std::printf("wrote %s: %s, %d x %d texels, %s, Bonn %s at %d components, %.1f MiB, %.1f s\n", o.output.c_str(),
-                btf->name().c_str(), o.size, o.size, btf->directions().describe().c_str(), o.layout.c_str(), o.components,
+                recorded.name().c_str(), o.size, o.size, btf->directions().describe().c_str(), o.layout.c_str(), o.components,
                 double(file_bytes) / (1024.0 * 1024.0), seconds);
     return;
   }

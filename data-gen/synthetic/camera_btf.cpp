@@ -62,14 +62,20 @@ void CameraBtf::loadView(int view, std::vector<Rgb>& out) const {
   source_.loadView(view, clean);
   const int w = width(), h = height();
   const std::size_t texels = std::size_t(w) * std::size_t(h);
-  if (clean.size() != texels * kBtfDirectionCount)
+  const BtfDirectionSet& set = source_.directions();
+  const int lights = set.lightCount(view);
+  if (clean.size() != texels * std::size_t(lights))
     throw Error(source_.name() + ": view " + std::to_string(view) + " has the wrong number of values");
+  // One stream per (view, light) image: its index among all of the set's pairs (view * 81 + light on
+  // the 81-direction set).
+  std::uint64_t first_pair = 0;
+  for (int v = 0; v < view; ++v) first_pair += std::uint64_t(set.lightCount(v));
   out.resize(clean.size());
   const CameraOptions& o = options_;
   const float read_var = (o.read_noise * o.white) * (o.read_noise * o.white);
   const float shot_gain = o.shot_noise * o.shot_noise * o.white;
-  tbb::parallel_for(0, kBtfDirectionCount, [&](int light) {
-    Rng rng(o.seed, std::uint64_t(view) * kBtfDirectionCount + std::uint64_t(light));
+  tbb::parallel_for(0, lights, [&](int light) {
+    Rng rng(o.seed, first_pair + std::uint64_t(light));
     const Rgb* src = clean.data() + std::size_t(light) * texels;
     Rgb* dst = out.data() + std::size_t(light) * texels;
     const float dx = o.jitter * (2.0f * rng.uniform() - 1.0f), dy = o.jitter * (2.0f * rng.uniform() - 1.0f);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "btf/compress/compressed_btf.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
 #include "btf/core/error.h"
@@ -218,7 +219,7 @@ PyBtfSource decompressFile(const py::handle& path_in, const py::handle& out_in, 
   else throw py::value_error("format: expected 'exr', 'png16' or 'png8', got '" + format + "'");
   const std::string out = out_in.is_none() ? std::string() : toPath(out_in);
   py::gil_scoped_release release;
-  auto source = std::make_shared<const VqBtf>(VqBtf::read(path, material));
+  const std::shared_ptr<const BtfSource> source = readCompressedBtf(path, material);
   if (!out.empty()) writeBtfImageFolder(*source, out, options);
   return PyBtfSource{source};
 }

@@ -47,7 +47,7 @@ TEST(BonnCli, ConvertBetweenLayoutsAndCompare) {
   ASSERT_EQ(runDatagen({"btf", "--size", "4", "--format", "exr", "-o", folder.string()}).exit_code, 0);
   // Full rank (16 texels), float factors: the trip through the SVD is exact to rounding.
   const CommandResult to_bonn = runBtf({"convert", folder.string(), (dir / "fabric.btf").string(), "--components", "16",
-                                        "--scalar", "4", "--layout", "fmf"});
+                                        "--relative-error", "1e-9", "--scalar", "4", "--layout", "fmf"});
   ASSERT_EQ(to_bonn.exit_code, 0) << to_bonn.output;
   EXPECT_THAT(to_bonn.output, HasSubstr("Bonn BTF (FMF"));
   const CommandResult compared = runBtf({"compare", (dir / "fabric.btf").string(), folder.string(), "--json"});
@@ -80,8 +80,10 @@ TEST(BonnCli, DamagedFilesFailNamingTheSection) {
   expectFailure(runBtf({"info", (dir / "cut.btf").string()}), {"cut.btf", "DFMF channel 2 factors is truncated"});
   expectFailure(runBtf({"convert", (dir / "cut.btf").string(), (dir / "out.btf").string()}), {"cut.btf", "truncated"});
   EXPECT_FALSE(fs::exists(dir / "out.btf"));
-  // The dome's file compresses, and decompresses to a .btf on the same set.
-  const CommandResult compressed = runBtf({"compress", (dir / "dome.btf").string(), (dir / "dome.btfz").string()});
+  // The dome's file compresses by VQ (larger than this tiny file: allowed), and decompresses to a
+  // .btf on the same set.
+  const CommandResult compressed =
+      runBtf({"compress", (dir / "dome.btf").string(), (dir / "dome.btfz").string(), "--form", "vq", "--allow-larger"});
   EXPECT_EQ(compressed.exit_code, 0) << compressed.output;
   EXPECT_THAT(compressed.output, HasSubstr("all 151 views (Bonn dome 1) x 151 lights"));
   EXPECT_THAT(runBtf({"info", (dir / "dome.btfz").string()}).output,
@@ -90,6 +92,43 @@ TEST(BonnCli, DamagedFilesFailNamingTheSection) {
   EXPECT_EQ(back.exit_code, 0) << back.output;
   const CommandResult info = runBtf({"info", (dir / "back.btf").string()});
   EXPECT_THAT(info.output, HasSubstr("151 views x 151 lights (Bonn dome 1)"));
+}
+
+// A Bonn file is already factorised: what `btf compress` writes is never larger than it. The small
+// dome file's codebooks would be (refused, nothing written); auto measures both forms and keeps
+// the factor form, which meets epsilon; the Bonn writer keeps the components the data needs.
+TEST(BonnCli, CompressNeverWritesMoreThanTheBonnInput) {
+  TempDir dir;
+  const fs::path btf = dir / "dome.btf";
+  ASSERT_EQ(runDatagen({"btf", "--size", "8", "--directions", "dome", "--layout", "dfmf", "--components", "8", "-o",
+                        btf.string()})
+                .exit_code,
+            0);
+  const std::uint64_t input_bytes = fs::file_size(btf);
+  expectFailure(runBtf({"compress", btf.string(), (dir / "vq.btfz").string(), "--form", "vq", "--no-verify"}),
+                {"vq.btfz", "not written", "more than the", "--allow-larger"});
+  EXPECT_FALSE(fs::exists(dir / "vq.btfz"));
+  for (const auto& entry : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(entry.path().string().find("pending"), std::string::npos) << entry.path();
+
+  const CommandResult c = runBtf({"compress", btf.string(), (dir / "auto.btfz").string(), "--epsilon", "0.02", "--json"});
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const nlohmann::json report = parseJsonOutput(c);
+  EXPECT_EQ(report["form"], "factor log-luminance");
+  EXPECT_EQ(report["from_source_factors"], true);
+  EXPECT_EQ(report["form_choice"]["trials"].size(), 3u);
+  EXPECT_LE(report["bytes"].get<std::uint64_t>(), input_bytes);
+  EXPECT_EQ(report["bytes"].get<std::uint64_t>(), fs::file_size(dir / "auto.btfz"));
+  EXPECT_LE(report["rel_rmse"].get<double>(), 0.02) << "measured against the file's own decode";
+  const CommandResult compared = runBtf({"compare", (dir / "auto.btfz").string(), btf.string(), "--json"});
+  ASSERT_EQ(compared.exit_code, 0) << compared.output;
+  EXPECT_NEAR(parseJsonOutput(compared)["rel_rmse"].get<double>(), report["rel_rmse"].get<double>(), 1e-9);
+  EXPECT_THAT(runBtf({"info", (dir / "auto.btfz").string()}).output,
+              HasSubstr("btfz (quantized factors, log-luminance), 8 x 8 texels x all 151 views (Bonn dome 1)"));
+
+  const CommandResult back = runBtf({"decompress", (dir / "auto.btfz").string(), (dir / "back.btf").string()});
+  ASSERT_EQ(back.exit_code, 0) << back.output;
+  EXPECT_THAT(back.output, HasSubstr("truncation error"));
 }
 
 // A BTF on the dome renders as a scene material, read from its .btf and from its .btfz.

@@ -29,6 +29,7 @@
 #include "btf/io/atomic_file.h"
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_subset.h"
+#include "btf/material/registry.h"
 #include "btf_patterns.h"
 #include "camera_btf.h"
 #include "comma_list.h"
@@ -60,7 +61,7 @@ struct Args {
 BtfViewSet viewsUpTo(const BtfSource& source, float max_theta_deg) {
   std::vector<int> kept;
   for (const int v : source.views().views())
-    if (btfDirections()[std::size_t(v)].theta_deg <= max_theta_deg + 1e-3f) kept.push_back(v);
+    if (source.directions().viewAngles(v).theta_deg <= max_theta_deg + 1e-3f) kept.push_back(v);
   if (kept.empty())
     throw Error(source.name() + " holds no view up to theta " + std::to_string(max_theta_deg) + " (it holds " +
                 source.views().describe() + ")");
@@ -217,8 +218,10 @@ void runBenchCompressibility(const Args& args) {
   if (patterns.empty() && inputs.empty()) throw Error("bench compressibility: no --patterns and no --inputs");
   std::vector<synthetic::BtfPattern> parsed;
   for (const std::string& name : patterns) parsed.push_back(synthetic::parseBtfPattern(name));  // fail before work
-  std::vector<BtfImageFolder> folders;
-  for (const std::string& input : inputs) folders.push_back(BtfImageFolder::open(input));
+  // Any BTF the registry opens (an image folder, a Bonn .btf file, a .btfz), so that a generated
+  // Bonn file is measured as the real slice is.
+  std::vector<std::shared_ptr<const BtfSource>> measured;
+  for (const std::string& input : inputs) measured.push_back(openBtf(input));
   std::filesystem::create_directories(args.output);
   std::vector<PatternResult> results;
   auto analyze = [&](const std::string& name, const BtfSource& whole, std::chrono::steady_clock::time_point start,
@@ -246,7 +249,7 @@ void runBenchCompressibility(const Args& args) {
     analyze(patterns[i] + (args.camera_white > 0 ? " (camera)" : ""),
             *synthetic::makeSyntheticBtf(parsed[i], args.size, args.size, args.seed), start, true);
   }
-  for (const BtfImageFolder& folder : folders) analyze(folder.name(), folder, std::chrono::steady_clock::now(), false);
+  for (const auto& source : measured) analyze(source->name(), *source, std::chrono::steady_clock::now(), false);
   const std::filesystem::path folder = args.output;
   const std::filesystem::path csv = folder / "compressibility.csv";
   writeCsv(csv, results);
@@ -278,7 +281,8 @@ void addBenchCompressibilityCommand(CLI::App& bench) {
   cmd->add_option("--patterns", args->patterns, "Synthetic BTF patterns (comma-separated; '' for none)")
       ->capture_default_str();
   cmd->add_option("--inputs", args->inputs,
-                  "Measured BTF image folders (comma-separated), analysed on a centred window of --size texels");
+                  "Measured BTFs (comma-separated: image folders, Bonn .btf files, .btfz), analysed on a centred window of "
+                  "--size texels");
   cmd->add_option("--max-view-theta", args->max_view_theta,
                   "Keep only the views up to this elevation in degrees (0: the view at the pole alone)")
       ->capture_default_str()

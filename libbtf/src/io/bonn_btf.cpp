@@ -666,6 +666,24 @@ void BonnBtf::loadView(int view, std::vector<Rgb>& out) const {
                                  std::to_string(decode.model) + " on the stored factors)");
 }
 
+std::vector<BonnBtf::ChannelFactors> BonnBtf::dfmfFactors() const {
+  const BonnBtfHeader& h = *header_;
+  if (h.layout != BonnBtfLayout::Dfmf)
+    throw FileError(path_, "is a Bonn " + bonnBtfLayoutName(h.layout) + " file; only DFMF stores one factorisation per channel");
+  const std::vector<FactorData>& factors = cache_->matrixFactors(path_, h);
+  std::vector<ChannelFactors> out;
+  for (std::size_t c = 0; c < factors.size(); ++c) {
+    const BonnBtfFactor& f = h.factors[c];
+    const bool pairs_by_texels = f.rows == h.directions->pairCount() && f.columns == texelCount();
+    ChannelFactors cf;
+    cf.components = f.components;
+    cf.pair_side = pairs_by_texels ? factors[c].u : factors[c].sv;
+    cf.texel_side = pairs_by_texels ? factors[c].sv : factors[c].u;
+    out.push_back(std::move(cf));
+  }
+  return out;
+}
+
 Rgb BonnBtf::value(int x, int y, int view, int light) const {
   const BonnBtfHeader& h = *header_;
   const std::size_t t = std::size_t(y) * std::size_t(h.width) + std::size_t(x), channels = 3;

@@ -8,6 +8,7 @@
 
 #include "btf/core/rgb.h"
 #include "btf/io/bonn_btf.h"
+#include "bonn_color.h"
 
 namespace btf::bonn {
 
@@ -26,19 +27,6 @@ inline constexpr std::array<Signature, 6> kSignatures{{{"!DFMF08FCR", BonnBtfLay
 inline constexpr std::size_t kLongestSignature = 10;
 inline constexpr std::int32_t kLegacyPvfMagic = 301074;
 inline constexpr std::size_t kMetaStringBytes = 80;
-
-// The offset the log colour models and the dynamic-range reduction add before the logarithm
-// (btflib's drr_eps; no file stores it).
-inline constexpr float kLogEpsilon = 1e-5f;
-
-// btflib's YUV -> RGB matrix (rows: R, G, B), and its inverse for the writer.
-inline constexpr float kYuvToRgb[3][3] = {{1.0f, 0.0f, 1.13983f}, {1.0f, -0.39465f, -0.5806f}, {1.0f, 2.03211f, 0.0f}};
-
-inline Rgb yuvToRgb(float y, float u, float v) {
-  return Rgb(kYuvToRgb[0][0] * y + kYuvToRgb[0][1] * u + kYuvToRgb[0][2] * v,
-             kYuvToRgb[1][0] * y + kYuvToRgb[1][1] * u + kYuvToRgb[1][2] * v,
-             kYuvToRgb[2][0] * y + kYuvToRgb[2][1] * u + kYuvToRgb[2][2] * v);
-}
 
 // The colour models btflib's undecorrelate handles (5 and 6 are multispectral).
 inline bool knownColorModel(int model) { return (model >= 0 && model <= 4) || (model >= 9 && model <= 12); }

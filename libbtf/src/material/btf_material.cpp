@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "btf/compress/compressed_btf.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/core/cdf1d.h"
 #include "btf/core/error.h"
@@ -335,15 +336,15 @@ std::shared_ptr<const BtfSource> btfSourceParam(const MaterialParams& p) {
     if (!material.empty()) p.fail("material", "names a material of a .btfz database only");
     return std::make_shared<BonnBtf>(BonnBtf::open(file));
   }
-  return std::make_shared<VqBtf>(VqBtf::read(file, material));
+  return readCompressedBtf(file, material);
 }
 
 }  // namespace
 
 // "mapping", "uv_scale" and "axis" place the texture on a shape; the scene loader reads them.
 BTF_REGISTER_MATERIAL(btf, {.name = "btf",
-                            .summary = "a BTF: an image folder, a Bonn .btf file or a VQ-compressed .btfz (one "
-                                       "material of a database)",
+                            .summary = "a BTF: an image folder, a Bonn .btf file or a compressed .btfz (VQ or "
+                                       "factor form; one material of a database)",
                             .keys = {"file", "material", "filter", "mapping", "uv_scale", "axis"},
                             .formats = {{.description = "image-folder BTF", .folder = true},
                                         {.description = "Bonn BTF file (.btf: DFMF, FMF or PVF)",
@@ -351,11 +352,10 @@ BTF_REGISTER_MATERIAL(btf, {.name = "btf",
                                          .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
                                            return isBonnBtfSignature(head.data(), head.size());
                                          }},
-                                        {.description = "VQ-compressed BTF (.btfz)",
+                                        {.description = "compressed BTF (.btfz: VQ or factor form)",
                                          .extensions = {".btfz"},
                                          .sniff = [](std::span<const unsigned char> head, std::uintmax_t) {
-                                           const std::string format = containerFormatOf(head);
-                                           return format == "libbtf-vq" || format == "libbtf-vq-database";
+                                           return isCompressedBtfFormat(containerFormatOf(head));
                                          }}},
                             .create = [](const MaterialParams& p) -> std::shared_ptr<const Material> {
                               BtfTexelFilter filter = BtfTexelFilter::Bilinear;

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "btf/compress/compressed_btf.h"
+#include "btf/compress/factor_btf.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
 #include "btf/io/bonn_btf.h"
@@ -101,6 +103,41 @@ void runSingleBtfzInfo(const std::filesystem::path& file, const std::vector<Cont
   std::printf("epsilon %g, chroma_epsilon %g, %d levels; codebook entries per level:", btf.options().epsilon,
               btf.options().chroma_epsilon, btf.options().levels);
   for (std::size_t n : btf.stats().codebook_entries) std::printf(" %zu", n);
+  std::printf("\n%llu bytes: ratio_u8 %.1f, ratio_f32 %.1f\n", static_cast<unsigned long long>(bytes),
+              facts["ratio_u8"].get<double>(), facts["ratio_f32"].get<double>());
+  printSections(sections);
+}
+
+void runFactorInfo(const std::filesystem::path& file, const std::vector<ContainerSection>& sections, bool json) {
+  const FactorBtf btf = FactorBtf::read(file);
+  const FactorStats& st = btf.stats();
+  const std::uint64_t bytes = std::filesystem::file_size(file);
+  const double raw_u8 = double(btf.entryCount()) * 3.0;
+  nlohmann::json facts{{"file", file.string()},
+                       {"format", "btfz (quantized factors)"},
+                       {"texels", {btf.width(), btf.height()}},
+                       {"views", btf.views().views()},
+                       {"directions", btf.directions().describe()},
+                       {"color_model", factorColorModelName(btf.options().color_model)},
+                       {"epsilon", btf.options().epsilon},
+                       {"components", st.components},
+                       {"coefficient_step", st.coefficient_step},
+                       {"estimated_rel_rmse", st.estimated_rel_rmse},
+                       {"bytes", bytes},
+                       {"ratio_u8", raw_u8 / double(bytes)},
+                       {"ratio_f32", 4.0 * raw_u8 / double(bytes)},
+                       {"sections", sectionList(sections)}};
+  if (st.measured_rel_rmse >= 0) facts["measured_rel_rmse"] = st.measured_rel_rmse;
+  if (json) {
+    std::cout << facts.dump(2) << '\n';
+    return;
+  }
+  std::printf("%s: btfz (quantized factors, %s), %d x %d texels x %s x %s\n", file.c_str(),
+              factorColorModelName(btf.options().color_model).c_str(), btf.width(), btf.height(),
+              btf.views().describe().c_str(), btf.directions().describeLights().c_str());
+  std::printf("epsilon %g; components per colour channel %d %d %d; estimated rel_rmse %.5f", btf.options().epsilon,
+              st.components[0], st.components[1], st.components[2], st.estimated_rel_rmse);
+  if (st.measured_rel_rmse >= 0) std::printf(", measured on every entry %.5f", st.measured_rel_rmse);
   std::printf("\n%llu bytes: ratio_u8 %.1f, ratio_f32 %.1f\n", static_cast<unsigned long long>(bytes),
               facts["ratio_u8"].get<double>(), facts["ratio_f32"].get<double>());
   printSections(sections);
@@ -237,6 +274,7 @@ void runBtfzInfo(const std::filesystem::path& file, bool json) {
   const bool database = std::any_of(sections.begin(), sections.end(),
                                     [](const ContainerSection& s) { return s.name.starts_with("material0/"); });
   if (database) runDatabaseInfo(file, sections, json);
+  else if (compressedBtfFormat(file) == "libbtf-factor") runFactorInfo(file, sections, json);
   else runSingleBtfzInfo(file, sections, json);
 }
 

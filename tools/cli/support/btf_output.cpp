@@ -22,7 +22,8 @@ void addBtfOutputOptions(CLI::App& cmd, BtfOutputOptions& o) {
   cmd.add_option_function<double>(
          "--relative-error", [&o](double e) { o.relative_error = e; },
          "A .btf output: keep the fewest components (up to --components) whose truncation error, relative to the "
-         "data's norm in the stored values, is at most this")
+         "data's norm in the stored values, is at most this (default 0.001, about the half scalars' precision; "
+         "a tiny value keeps all --components)")
       ->check(CLI::Range(1e-9, 0.999999));
   cmd.add_option("--scalar", o.scalar_bytes, "A .btf output's factor scalars: 2 (half, as the database ships), 4 or 8 bytes")
       ->capture_default_str()

@@ -17,7 +17,9 @@ struct BtfOutputOptions {
   std::string layout;  // "ubo2003", "utia" for a folder; "dfmf", "fmf", "pvf" for .btf; empty: the default
   std::string image_format = "exr";
   int components = 64;
-  std::optional<double> relative_error;
+  // The default: the precision of the half scalars the database ships (2^-11 relative), so that a
+  // file read and written back keeps the components its data needs, not --components of them.
+  std::optional<double> relative_error = 1e-3;
   int scalar_bytes = 2;
   int color_model = 11;
   bool log_values = false;  // FMF: store log(x + 1e-5)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "btf/compress/factor_btf.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/core/error.h"
 
@@ -19,9 +20,11 @@ BtfInput openBtfInput(IdentifiedMaterial material) {
   BtfInput input{std::move(material), nullptr, "", false};
   input.source = materialBtf(input.material);
   input.description = input.material.description;
-  // A .btfz is VQ-compressed; a Bonn .btf is factorised too, but it is the measured data as
+  // A .btfz is compressed (VQ or factor form); a Bonn .btf is factorised too, but it is the measured data as
   // distributed, what users compress.
-  if (isBtf(input.material)) input.compressed = std::dynamic_pointer_cast<const VqBtf>(input.source) != nullptr;
+  if (isBtf(input.material))
+    input.compressed = std::dynamic_pointer_cast<const VqBtf>(input.source) != nullptr ||
+                       std::dynamic_pointer_cast<const FactorBtf>(input.source) != nullptr;
   else input.description += " as a one-texel BTF at 81 x 81 directions";
   return input;
 }

@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "btf/compress/vq_btf.h"
+#include "btf/compress/compressed_btf.h"
 #include "btf/core/error.h"
 #include "btf_output.h"
 #include "commands.h"
@@ -24,7 +24,7 @@ void registerDecompressCommand(CLI::App& app) {
   dec->add_option("--material", *material, "The material to decompress from a database (btf info lists them)");
   dec->callback([in, out, options, material] {
     if (std::filesystem::path(*in).extension() != ".btfz") throw FileError(*in, "is not a .btfz file");
-    writeBtfOutput(VqBtf::read(*in, *material), *out, *options);
+    writeBtfOutput(*readCompressedBtf(*in, *material), *out, *options);
   });
 }
 

@@ -126,6 +126,16 @@ class BonnBtf final : public BtfSource, public BtfLookup {
   const BtfViewSet& lookupViews() const override { return views_; }
   Rgb value(int x, int y, int view, int light) const override;
 
+  // A DFMF file's stored factorisations, one per stored channel, as float: the decorrelated
+  // channel c at (pair p, texel t) is the dot product of pair_side[p * k ...] and
+  // texel_side[t * k ...] (k = components; the singular values folded in as the file stores them),
+  // whichever way the file stands. Throws FileError for a layout other than DFMF.
+  struct ChannelFactors {
+    std::uint32_t components = 0;
+    std::vector<float> pair_side, texel_side;  // pairs x k, texels x k, row-major
+  };
+  std::vector<ChannelFactors> dfmfFactors() const;
+
   const BonnBtfHeader& header() const { return *header_; }
   const std::filesystem::path& path() const { return path_; }
 
