@@ -75,7 +75,10 @@ void runBtfSample(benchmark::State& state, const btf::Material& material) {
 
 void BM_BtfEvalLafortune1(benchmark::State& state) { runBtfEval(state, btfFixture().lafortune); }
 void BM_BtfEvalVqBilinear(benchmark::State& state) { runBtfEval(state, btfFixture().vq_bilinear); }
-void BM_BtfEvalVqNearest(benchmark::State& state) { runBtfEval(state, btfFixture().vq_nearest); }
+void BM_BtfEvalVqNearest(benchmark::State& state) {
+  runBtfEval(state, btfFixture().vq_nearest);
+  state.counters["table_MB"] = double(btfFixture().vq->lookupTableBytes()) / 1e6;
+}
 void BM_BtfEvalDataNearest(benchmark::State& state) { runBtfEval(state, btfFixture().data_nearest); }
 void BM_BtfSampleVq(benchmark::State& state) { runBtfSample(state, btfFixture().vq_nearest); }
 // The direction and its pdf alone (no eval for the weight): the twofold search's own cost.
@@ -98,7 +101,10 @@ const DomeBenchFixture& domeFixture() {
   static const DomeBenchFixture f;
   return f;
 }
-void BM_BtfEvalDomeVqNearest(benchmark::State& state) { runBtfEval(state, domeFixture().vq_nearest); }
+void BM_BtfEvalDomeVqNearest(benchmark::State& state) {
+  runBtfEval(state, domeFixture().vq_nearest);
+  state.counters["table_MB"] = double(domeFixture().vq->lookupTableBytes()) / 1e6;
+}
 void BM_BtfSampleDomeVq(benchmark::State& state) { runBtfSample(state, domeFixture().vq_nearest); }
 
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
