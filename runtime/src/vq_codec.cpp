@@ -2,6 +2,8 @@
 // tables, walked as VqBtf walks them (top code -> level 3 -> level 2 -> level-1 value and chroma
 // pair), with the same arithmetic (src/compress/vq_impl.h's decodeSample), so that every value is
 // the library's bit for bit.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -34,12 +36,32 @@ class VqCodec final : public Codec {
         sum += sample(ringCode(t, views[k], int(lights_[std::size_t(lights[k])].ring)), lights[k]) * weights[k];
       return sum;
     }
-    // A stencil lists a view's lights together: its slice code is walked once.
-    int slice_view = -1;
-    SliceCode slice{};
-    for (int k = 0; k < count; ++k) {
-      if (views[k] != slice_view) slice = sliceCode(t, slice_view = views[k]);
-      sum += sample(ringCode(slice, int(lights_[std::size_t(lights[k])].ring)), lights[k]) * weights[k];
+    // As VqBtf::weightedSum: a stencil lists a view's lights together, so its slice code is walked
+    // once; the codes first, then the stored values, then the arithmetic, so that the loads of one
+    // step do not wait for another's (cache misses overlap). The sum is the same, in the same order.
+    constexpr int kBlock = 16;
+    std::array<RingCode, kBlock> codes;
+    std::array<std::uint16_t, kBlock> value, chroma_r, chroma_b;
+    for (int begin = 0; begin < count; begin += kBlock) {
+      const int n = std::min(count - begin, kBlock);
+      int slice_view = -1;
+      SliceCode slice{};
+      for (int k = 0; k < n; ++k) {
+        const int v = views[begin + k];
+        if (v != slice_view) slice = sliceCode(t, slice_view = v);
+        codes[std::size_t(k)] = ringCode(slice, int(lights_[std::size_t(lights[begin + k])].ring));
+      }
+      for (int k = 0; k < n; ++k) {
+        const Light& at = lights_[std::size_t(lights[begin + k])];
+        const RingCode& c = codes[std::size_t(k)];
+        const std::uint16_t* q = &chroma_[at.chroma + 2 * std::size_t(c.chroma) * at.size];
+        value[std::size_t(k)] = l1_[at.l1 + std::size_t(c.entry) * at.size];
+        chroma_r[std::size_t(k)] = q[0];
+        chroma_b[std::size_t(k)] = q[1];
+      }
+      for (int k = 0; k < n; ++k)
+        sum += decode(codes[std::size_t(k)].scale, value[std::size_t(k)], chroma_r[std::size_t(k)], chroma_b[std::size_t(k)]) *
+               weights[begin + k];
     }
     return sum;
   }
@@ -62,7 +84,8 @@ class VqCodec final : public Codec {
   SliceCode sliceCode(std::size_t t, int view) const {
     if (levels_ == 2) return top_codes_[t * view_count_ + slot(view)];
     const SliceCode c3 = top_codes_[t];
-    SliceCode c2 = l3_codes_[std::size_t(c3.entry) * view_count_ + slot(view)];
+    const std::size_t k = std::size_t(c3.entry) * view_count_ + slot(view);
+    SliceCode c2 = l3_packed_.empty() ? l3_codes_[k] : unpacked(l3_packed_[k]);
     c2.scale *= c3.scale;
     return c2;
   }
@@ -75,12 +98,19 @@ class VqCodec final : public Codec {
     if (levels_ == 1) return top_ring_codes_[(t * view_count_ + slot(view)) * detail::kRingCount + std::size_t(r)];
     return ringCode(sliceCode(t, view), r);
   }
+  SliceCode unpacked(PackedCode p) const {
+    const float power = detail::bitsFloat(std::uint32_t((p.scale >> 10) + 127 - 40) << 23);
+    return {p.entry, p.scale == 0 ? 0.0f : scale_fractions_[p.scale & 1023u] * power};
+  }
   Rgb sample(const RingCode& code, int light) const {
     const Light& at = lights_[std::size_t(light)];
     const std::uint16_t* q = &chroma_[at.chroma + 2 * std::size_t(code.chroma) * at.size];
-    const std::uint16_t value = l1_[at.l1 + std::size_t(code.entry) * at.size];
-    const float lum = code.scale * (float(value) * (1.0f / 65535.0f));
-    const float cr = float(q[0]) * chroma_step_, cb = float(q[1]) * chroma_step_;
+    return decode(code.scale, l1_[at.l1 + std::size_t(code.entry) * at.size], q[0], q[1]);
+  }
+  // The stored value and chroma pair to RGB (vq_impl.h's decodeSample).
+  Rgb decode(float scale, std::uint16_t value, std::uint16_t r, std::uint16_t b) const {
+    const float lum = scale * (float(value) * (1.0f / 65535.0f));
+    const float cr = float(r) * chroma_step_, cb = float(b) * chroma_step_;
     const float cg = std::max((1.0f - 0.2126f * cr - 0.0722f * cb) * (1.0f / 0.7152f), 0.0f);
     return {lum * cr, lum * cg, lum * cb};
   }
@@ -95,6 +125,8 @@ class VqCodec final : public Codec {
   std::vector<float> l1_cdf_, l1_sum_;
   std::vector<RingCode> l2_codes_, top_ring_codes_;
   std::vector<SliceCode> l3_codes_, top_codes_;
+  std::vector<PackedCode> l3_packed_;
+  std::vector<float> scale_fractions_;
 };
 
 [[noreturn]] void fail(const std::string& what, const std::string& problem) {
@@ -147,6 +179,8 @@ VqCodec::VqCodec(const unsigned char* data, std::size_t size, const std::string&
   l1_sum_ = section(float{}, kL1Sum, "l1_sum");
   l2_codes_ = section(RingCode{}, kL2Codes, "l2_codes");
   l3_codes_ = section(SliceCode{}, kL3Codes, "l3_codes");
+  l3_packed_ = section(PackedCode{}, kL3Packed, "l3_packed");
+  scale_fractions_ = section(float{}, kScaleFractions, "scale_fractions");
   top_codes_ = section(SliceCode{}, kTopCodes, "top_codes");
   top_ring_codes_ = section(RingCode{}, kTopRingCodes, "top_ring_codes");
 
@@ -208,10 +242,16 @@ VqCodec::VqCodec(const unsigned char* data, std::size_t size, const std::string&
       requireCount(top_codes_.size(), T * view_count_, "top_codes");
       checkSliceCodes(top_codes_, l2, "top_codes");
     } else {
-      require(!l3_codes_.empty() && l3_codes_.size() % view_count_ == 0, "l3_codes is empty or has a partial entry");
+      const std::size_t l3 = l3_codes_.size() + l3_packed_.size();
+      require(l3_codes_.empty() != l3_packed_.empty() && l3 % view_count_ == 0,
+              "level 3 is empty, in both forms, or has a partial entry");
       checkSliceCodes(l3_codes_, l2, "l3_codes");
+      for (std::size_t i = 0; i < l3_packed_.size(); ++i)
+        require(l3_packed_[i].entry < l2, "l3_packed code " + std::to_string(i) + " is outside its codebook");
+      require(scale_fractions_.size() == 1024, "scale_fractions holds " + std::to_string(scale_fractions_.size()) + " values, expected 1024");
+      for (float f : scale_fractions_) require(std::isfinite(f) && f >= 1.0f && f < 2.0f, "scale_fractions holds a value outside [1, 2)");
       requireCount(top_codes_.size(), T, "top_codes");
-      checkSliceCodes(top_codes_, l3_codes_.size() / view_count_, "top_codes");
+      checkSliceCodes(top_codes_, l3 / view_count_, "top_codes");
     }
   }
 }

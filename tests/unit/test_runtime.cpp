@@ -2,11 +2,12 @@
 // written from a VqBtf (compress/vq_runtime_export.h) gives the same value, eval, sample and pdf
 // as BtfMaterial on that VqBtf, bit for bit (compared as float bits, not within a tolerance), on
 // every codec path the runtime has: VQ with 1, 2 and 3 levels, level 3 packed (<= 2^16 level-2
-// entries: the case of every file here), bilinear and nearest texels, a full BTF and one whose
-// views are the rings up to 30 degrees. And bad files are refused with their name and problem.
+// entries, as the writer stores every test BTF) and as float codes (rewritten), bilinear and
+// nearest texels, a full BTF and one whose views are the rings up to 30 degrees. And bad files are refused with their name and problem.
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -52,10 +53,59 @@ std::shared_ptr<const btf::VqBtf> compressed(int levels, const btf::BtfViewSet& 
   return std::make_shared<const btf::VqBtf>(btf::compressVq(data, options));
 }
 
-void compareEverything(const std::shared_ptr<const btf::VqBtf>& vq, const std::string& label) {
+std::vector<unsigned char> runtimeFileBytes(const std::filesystem::path& file) {
+  std::vector<unsigned char> bytes(std::filesystem::file_size(file));
+  std::ifstream(file, std::ios::binary).read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+  return bytes;
+}
+
+// The same file with level 3 stored as (entry, float scale) records, the form the writer uses past
+// 2^16 level-2 entries (more than a test BTF has): each packed code's scale decoded by the
+// library's own decodeVqScale, which equals the packed form's table lookup (test_vq_btf.cpp).
+void rewriteLevel3AsFloatCodes(const std::filesystem::path& file) {
+  namespace rf = btfrt::file;
+  const std::vector<unsigned char> bytes = runtimeFileBytes(file);
+  rf::Header h;
+  std::memcpy(&h, bytes.data(), sizeof h);
+  std::vector<rf::Section> table(h.section_count);
+  std::memcpy(table.data(), bytes.data() + rf::kHeaderBytes, table.size() * sizeof(rf::Section));
+  std::vector<std::vector<unsigned char>> sections(table.size());
+  for (std::size_t s = 0; s < table.size(); ++s)
+    sections[s].assign(bytes.begin() + std::ptrdiff_t(table[s].offset), bytes.begin() + std::ptrdiff_t(table[s].offset + table[s].bytes));
+  const std::size_t n = sections[rf::kL3Packed].size() / sizeof(rf::PackedCode);
+  ASSERT_GT(n, 0u);
+  std::vector<rf::SliceCode> codes(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    rf::PackedCode p;
+    std::memcpy(&p, sections[rf::kL3Packed].data() + k * sizeof p, sizeof p);
+    codes[k] = {p.entry, p.scale == 0 ? 0.0f : float(std::exp2(double(p.scale) / 1024.0 - 40.0))};
+  }
+  sections[rf::kL3Codes].resize(n * sizeof(rf::SliceCode));
+  std::memcpy(sections[rf::kL3Codes].data(), codes.data(), sections[rf::kL3Codes].size());
+  sections[rf::kL3Packed].clear();
+  std::uint64_t offset = rf::kHeaderBytes + table.size() * sizeof(rf::Section);
+  for (std::size_t s = 0; s < table.size(); ++s) {
+    offset = (offset + 15) / 16 * 16;
+    table[s] = {offset, sections[s].size()};
+    offset += sections[s].size();
+  }
+  h.file_bytes = offset;
+  std::vector<unsigned char> out(offset, 0);
+  std::memcpy(out.data(), &h, sizeof h);
+  std::memcpy(out.data() + rf::kHeaderBytes, table.data(), table.size() * sizeof(rf::Section));
+  for (std::size_t s = 0; s < table.size(); ++s)
+    if (!sections[s].empty()) std::memcpy(out.data() + table[s].offset, sections[s].data(), sections[s].size());
+  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(out.data()), std::streamsize(out.size()));
+}
+
+void compareEverything(const std::shared_ptr<const btf::VqBtf>& vq, const std::string& label, bool float_level3 = false) {
   btf::test::TempDir dir;
   const auto file = dir / "material.btfrt";
   btf::writeVqRuntimeFile(*vq, file);
+  if (float_level3) {
+    rewriteLevel3AsFloatCodes(file);
+    if (testing::Test::HasFatalFailure()) return;
+  }
   for (const btf::BtfTexelFilter filter : {btf::BtfTexelFilter::Bilinear, btf::BtfTexelFilter::Nearest}) {
     const bool bilinear = filter == btf::BtfTexelFilter::Bilinear;
     const std::string where = label + (bilinear ? ", bilinear" : ", nearest");
@@ -65,14 +115,16 @@ void compareEverything(const std::shared_ptr<const btf::VqBtf>& vq, const std::s
     ASSERT_EQ(runtime.width(), vq->width());
     ASSERT_EQ(runtime.height(), vq->height());
     // Every stored sample.
-    if (bilinear)
+    if (bilinear) {
       for (int y = 0; y < vq->height(); ++y)
         for (int x = 0; x < vq->width(); ++x)
           for (int v : vq->views().views())
-            for (int l = 0; l < btf::kBtfDirectionCount; ++l)
+            for (int l = 0; l < btf::kBtfDirectionCount; ++l) {
               ASSERT_EQ(difference(vq->value(x, y, v, l), runtime.value(x, y, v, l)), "")
                   << where + " value(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(v) +
                                  ", " + std::to_string(l) + ")";
+            }
+    }
     // eval, sample, pdf at random directions and uv, and pdf at the sampled directions.
     btf::Rng rng(91);
     int drawn = 0;
@@ -104,6 +156,10 @@ TEST(Runtime, MatchesTheLibraryBitForBitOnEveryVqLevel) {
                                                  std::to_string(levels) + " levels");
 }
 
+TEST(Runtime, MatchesTheLibraryWithLevelThreeAsFloatCodes) {
+  compareEverything(compressed(3, btf::BtfViewSet::all(btf::BtfDirectionSet::ubo2003())), "3 levels, float level-3 codes", true);
+}
+
 TEST(Runtime, MatchesTheLibraryOnViewsUpToThirtyDegrees) {
   for (int levels : {1, 3}) compareEverything(compressed(levels, btf::BtfViewSet::upToTheta(30.0f)),
                                               std::to_string(levels) + " levels, views to 30 degrees");
@@ -125,8 +181,7 @@ TEST(Runtime, RefusesBadFilesNamingThem) {
   btf::test::TempDir dir;
   const auto file = dir / "m.btfrt";
   btf::writeVqRuntimeFile(*compressed(3, btf::BtfViewSet::all(btf::BtfDirectionSet::ubo2003())), file);
-  std::vector<unsigned char> bytes(std::filesystem::file_size(file));
-  std::ifstream(file, std::ios::binary).read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+  const std::vector<unsigned char> bytes = runtimeFileBytes(file);
   auto expectRefused = [&](const std::vector<unsigned char>& b, const std::string& problem) {
     try {
       btfrt::Material::fromBytes(b.data(), b.size(), "bad.btfrt");

@@ -75,15 +75,12 @@ void writeVqRuntimeFile(const VqBtf& vq, const std::filesystem::path& path) {
     for (std::size_t i = 0; i < codes.size(); ++i) out[i] = {codes[i].entry, codes[i].scale};
     return out;
   };
-  // Level 3 unpacked to (entry, float scale): Impl::l3Code's floats, whichever form prepare() built.
+  // Level 3 in the form prepare() built: packed (entry, scale code), or (entry, float scale).
   std::vector<rf::SliceCode> l3;
-  if (m.options.levels == 3) {
-    l3.resize(m.l3_index.size());
-    for (std::size_t k = 0; k < l3.size(); ++k) {
-      const VqBtf::Impl::ScaledIndex c = m.l3Code(k);
-      l3[k] = {c.entry, c.scale};
-    }
-  }
+  std::vector<rf::PackedCode> l3_packed(m.l3_packed.size());
+  for (std::size_t k = 0; k < l3_packed.size(); ++k) l3_packed[k] = {m.l3_packed[k].entry, m.l3_packed[k].scale};
+  if (m.options.levels == 3 && l3_packed.empty()) l3 = sliceCodes(m.l3_codes);
+  const std::vector<float> fractions(kVqScaleFractions.begin(), kVqScaleFractions.end());
 
   std::vector<SectionBytes> sections(rf::kVqSectionCount);
   sections[rf::kViewSlot] = SectionBytes::of(view_slot);
@@ -95,6 +92,8 @@ void writeVqRuntimeFile(const VqBtf& vq, const std::filesystem::path& path) {
   sections[rf::kL1Sum] = SectionBytes::of(l1_sum);
   sections[rf::kL2Codes] = SectionBytes::of(ringCodes(m.l2_codes));
   sections[rf::kL3Codes] = SectionBytes::of(l3);
+  sections[rf::kL3Packed] = SectionBytes::of(l3_packed);
+  sections[rf::kScaleFractions] = SectionBytes::of(fractions);
   sections[rf::kTopCodes] = SectionBytes::of(sliceCodes(m.top_codes));
   sections[rf::kTopRingCodes] = SectionBytes::of(ringCodes(m.top_ring_codes));
 

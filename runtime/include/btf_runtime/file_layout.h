@@ -46,7 +46,9 @@ enum VqSection : std::uint32_t {
   kL1Cdf,          // float[]: per ring and level-1 entry, the CDF of its values (size + 1)
   kL1Sum,          // float[]: per ring and level-1 entry, the sum of its values
   kL2Codes,        // RingCode[l2 entries x ring_count] (levels >= 2)
-  kL3Codes,        // SliceCode[l3 entries x view_count] (levels 3)
+  kL3Codes,        // SliceCode[l3 entries x view_count] (levels 3 with more than 2^16 level-2 entries)
+  kL3Packed,       // PackedCode[l3 entries x view_count] (levels 3 with at most 2^16 level-2 entries)
+  kScaleFractions, // float[1024]: 2^(f / 1024), the fractions of PackedCode's scale codes
   kTopCodes,       // SliceCode[texels] (levels 3) or [texels x view_count] (levels 2)
   kTopRingCodes,   // RingCode[texels x view_count x ring_count] (levels 1)
   kVqSectionCount
@@ -76,7 +78,15 @@ struct SliceCode {  // a level-2 or level-3 code: entry and scale
   std::uint32_t entry;
   float scale;
 };
-static_assert(sizeof(Ring) == 32 && sizeof(Light) == 16 && sizeof(RingCode) == 12 && sizeof(SliceCode) == 8,
+// A level-3 code in 4 bytes (level 3 is the largest table; half the bytes keep more of it in
+// cache): the level-2 entry and the 16-bit log2 scale code q, whose scale is 0 for q = 0, else
+// fractions[q & 1023] * 2^((q >> 10) - 40) (the power of two built as float bits).
+struct PackedCode {
+  std::uint16_t entry;
+  std::uint16_t scale;
+};
+static_assert(sizeof(Ring) == 32 && sizeof(Light) == 16 && sizeof(RingCode) == 12 && sizeof(SliceCode) == 8 &&
+                  sizeof(PackedCode) == 4,
               "packed records");
 
 }  // namespace btfrt::file
