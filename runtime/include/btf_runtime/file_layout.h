@@ -1,4 +1,4 @@
-// The runtime file's header and section table (docs/formats.md#runtime-file): the one place that
+// The runtime file's header and section table (docs/formats.md#runtime-file-btfrt-from-btf-export---runtime): the one place that
 // knows the byte layout, for the runtime's reader (runtime/src/vq_codec.cpp) and the library's writer
 // (libbtf/src/compress/vq_runtime_export.cpp). Little-endian throughout; C++17, standard library only.
 #pragma once

@@ -1,7 +1,7 @@
 // libbtf runtime: eval, sample and pdf of a compressed BTF inside an engine, with nothing but the
 // C++17 standard library (target libbtf::runtime, docs/renderers.md#embedding-the-runtime).
 //
-// It reads the flat file `btf export --runtime` writes from a .btfz (layout: docs/formats.md#runtime-file,
+// It reads the flat file `btf export --runtime` writes from a .btfz (layout: docs/formats.md#runtime-file-btfrt-from-btf-export---runtime,
 // little-endian flat arrays, so a GPU port reads the same bytes) and gives the results of the full
 // library's BtfMaterial on the same file, bit for bit (tests/unit/test_runtime.cpp compares every
 // call): the same interpolation over texels and measured directions, and the same sampler (ring,

@@ -16,7 +16,7 @@ void registerExportCommand(CLI::App& app) {
   auto in = std::make_shared<std::string>(), out = std::make_shared<std::string>(), material = std::make_shared<std::string>();
   auto runtime = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("export", "Write a .btfz in the flat form an engine embeds: --runtime, the file libbtf::runtime reads");
-  cmd->add_flag("--runtime", *runtime, "The runtime file (docs/formats.md#runtime-file): decoded codebooks, no zstd")->required();
+  cmd->add_flag("--runtime", *runtime, "The runtime file (docs/formats.md#runtime-file-btfrt-from-btf-export---runtime): decoded codebooks, no zstd")->required();
   cmd->add_option("IN", *in, "Input .btfz (VQ codebooks, 81-direction set)")->required();
   cmd->add_option("OUT", *out, "Output runtime file (.btfrt), written atomically")->required();
   cmd->add_option("--material", *material, "The material to export from a database (btf info lists them)");

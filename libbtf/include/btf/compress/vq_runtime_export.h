@@ -1,6 +1,6 @@
 // The runtime file of a VqBtf: its decoded codebooks as the flat little-endian arrays that the
 // engine runtime (runtime/, libbtf::runtime) reads without zstd or any other library
-// (layout: runtime/include/btf_runtime/file_layout.h, docs/formats.md#runtime-file). `btf export
+// (layout: runtime/include/btf_runtime/file_layout.h, docs/formats.md#runtime-file-btfrt-from-btf-export---runtime). `btf export
 // --runtime` writes it.
 #pragma once
 
