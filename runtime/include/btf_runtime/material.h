@@ -52,7 +52,8 @@ class Material {
 
   int width() const { return width_; }
   int height() const { return height_; }
-  // The stored sample of texel (x, y), measured view and light (81-direction indices).
+  // The stored sample of texel (x, y), measured view and light (81-direction indices; a view the
+  // file holds). Not checked, as VqBtf::value: the caller keeps them in range.
   Rgb value(int x, int y, int view, int light) const;
   // BRDF value f(wi, wo) at texture coordinates (u, v) in [0, 1)^2 (wrapping); 0 below the surface.
   Rgb eval(const Vec3& wi, const Vec3& wo, float u, float v) const;
