@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <span>
@@ -15,10 +16,12 @@
 
 #include "../unit/btf_test_data.h"
 #include "btf/compress/vq_btf.h"
+#include "btf/compress/vq_runtime_export.h"
 #include "btf/core/rng.h"
 #include "btf/material/btf_material.h"
 #include "btf/material/lafortune.h"
 #include "btf/core/warp.h"
+#include "btf_runtime/material.h"
 
 namespace {
 
@@ -75,7 +78,10 @@ void runBtfSample(benchmark::State& state, const btf::Material& material) {
 
 void BM_BtfEvalLafortune1(benchmark::State& state) { runBtfEval(state, btfFixture().lafortune); }
 void BM_BtfEvalVqBilinear(benchmark::State& state) { runBtfEval(state, btfFixture().vq_bilinear); }
-void BM_BtfEvalVqNearest(benchmark::State& state) { runBtfEval(state, btfFixture().vq_nearest); }
+void BM_BtfEvalVqNearest(benchmark::State& state) {
+  runBtfEval(state, btfFixture().vq_nearest);
+  state.counters["table_MB"] = double(btfFixture().vq->lookupTableBytes()) / 1e6;
+}
 void BM_BtfEvalDataNearest(benchmark::State& state) { runBtfEval(state, btfFixture().data_nearest); }
 void BM_BtfSampleVq(benchmark::State& state) { runBtfSample(state, btfFixture().vq_nearest); }
 // The direction and its pdf alone (no eval for the weight): the twofold search's own cost.
@@ -98,8 +104,61 @@ const DomeBenchFixture& domeFixture() {
   static const DomeBenchFixture f;
   return f;
 }
-void BM_BtfEvalDomeVqNearest(benchmark::State& state) { runBtfEval(state, domeFixture().vq_nearest); }
+void BM_BtfEvalDomeVqNearest(benchmark::State& state) {
+  runBtfEval(state, domeFixture().vq_nearest);
+  state.counters["table_MB"] = double(domeFixture().vq->lookupTableBytes()) / 1e6;
+}
 void BM_BtfSampleDomeVq(benchmark::State& state) { runBtfSample(state, domeFixture().vq_nearest); }
+
+
+// The engine runtime (runtime/, libbtf::runtime) on the same VqBtf, exported by `btf export
+// --runtime`'s writer, beside the library's BM_BtfEvalVqNearest / BM_BtfSampleVq /
+// BM_BtfEvalVqBilinear (same queries; the results are the same floats, tests/unit/test_runtime.cpp).
+struct RuntimeBenchFixture {
+  btfrt::Material nearest, bilinear;
+  static btfrt::Material open(btfrt::TexelFilter filter) {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libbtf_bench_runtime.btfrt";
+    btf::writeVqRuntimeFile(*btfFixture().vq, file);
+    btfrt::Material m = btfrt::Material::open(file.string(), filter);
+    std::filesystem::remove(file);
+    return m;
+  }
+  RuntimeBenchFixture() : nearest(open(btfrt::TexelFilter::Nearest)), bilinear(open(btfrt::TexelFilter::Bilinear)) {}
+};
+const RuntimeBenchFixture& runtimeFixture() {
+  static const RuntimeBenchFixture f;
+  return f;
+}
+btfrt::Vec3 runtimeVec(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+void BM_RuntimeEvalVqNearest(benchmark::State& state) {
+  const btfrt::Material& m = runtimeFixture().nearest;
+  runQueries(state, [&](const BtfBenchFixture::Query& q) {
+    const btfrt::Rgb f = m.eval(runtimeVec(q.wi), runtimeVec(q.wo), q.uv.x, q.uv.y);
+    return f.r + f.g + f.b;
+  });
+}
+void BM_RuntimeEvalVqBilinear(benchmark::State& state) {
+  const btfrt::Material& m = runtimeFixture().bilinear;
+  runQueries(state, [&](const BtfBenchFixture::Query& q) {
+    const btfrt::Rgb f = m.eval(runtimeVec(q.wi), runtimeVec(q.wo), q.uv.x, q.uv.y);
+    return f.r + f.g + f.b;
+  });
+}
+void BM_RuntimeSampleVq(benchmark::State& state) {
+  const btfrt::Material& m = runtimeFixture().nearest;
+  runQueries(state, [&](const BtfBenchFixture::Query& q) {
+    btfrt::Sample s;
+    return m.sample(runtimeVec(q.wo), q.uv.x, q.uv.y, q.u.x, q.u.y, s) ? s.pdf : 0.0f;
+  });
+}
+void BM_RuntimePdfVq(benchmark::State& state) {
+  const btfrt::Material& m = runtimeFixture().nearest;
+  runQueries(state, [&](const BtfBenchFixture::Query& q) { return m.pdf(runtimeVec(q.wi), runtimeVec(q.wo), q.uv.x, q.uv.y); });
+}
+void BM_BtfPdfVq(benchmark::State& state) {
+  const btf::BtfMaterial& m = btfFixture().vq_nearest;
+  runQueries(state, [&](const BtfBenchFixture::Query& q) { return m.pdf(q.wi, q.wo, q.uv); });
+}
 
 // Decoding one measured sample (texel, view, light) from the codebooks: no direction mapping and
 // no interpolation, the random access that decompression-based renderers make. Its rate depends on
@@ -166,5 +225,10 @@ BENCHMARK(BM_BtfSampleData);
 BENCHMARK(BM_BtfSampleLafortune1);
 BENCHMARK(BM_BtfEvalDomeVqNearest);
 BENCHMARK(BM_BtfSampleDomeVq);
+BENCHMARK(BM_BtfPdfVq);
+BENCHMARK(BM_RuntimeEvalVqNearest);
+BENCHMARK(BM_RuntimeEvalVqBilinear);
+BENCHMARK(BM_RuntimeSampleVq);
+BENCHMARK(BM_RuntimePdfVq);
 
 }  // namespace

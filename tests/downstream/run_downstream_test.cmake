@@ -1,5 +1,7 @@
 # Installs the built project into a scratch prefix, then configures, builds and runs a downstream
-# project against it. Fails on any step.
+# project against it. Fails on any step. Optional: COMPONENT (install only it, e.g. runtime),
+# EXAMPLE_SOURCE (passed to the downstream project), PROGRAM_ARG (the program's argument; default
+# WORK_DIR).
 file(REMOVE_RECURSE "${WORK_DIR}")
 set(prefix "${WORK_DIR}/prefix")
 function(run)
@@ -11,9 +13,19 @@ endfunction()
 if(NOT BUILD_TYPE)
   set(BUILD_TYPE Release)
 endif()
-run(${CMAKE_COMMAND} --install "${BTF_BINARY_DIR}" --prefix "${prefix}" --config ${BUILD_TYPE})
+set(component_args)
+if(COMPONENT)
+  set(component_args --component ${COMPONENT})
+endif()
+if(NOT PROGRAM_ARG)
+  set(PROGRAM_ARG "${WORK_DIR}")
+endif()
+run(${CMAKE_COMMAND} --install "${BTF_BINARY_DIR}" --prefix "${prefix}" --config ${BUILD_TYPE} ${component_args})
+if(COMPONENT STREQUAL "runtime" AND (EXISTS "${prefix}/include/btf" OR EXISTS "${prefix}/lib/cmake/libbtf"))
+  message(FATAL_ERROR "the runtime component installed the full library too")
+endif()
 run(${CMAKE_COMMAND} -S "${DOWNSTREAM_SOURCE_DIR}" -B "${WORK_DIR}/build" -DCMAKE_PREFIX_PATH=${prefix}
-    -DCMAKE_BUILD_TYPE=${BUILD_TYPE})
+    -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DEXAMPLE_SOURCE=${EXAMPLE_SOURCE})
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
-run(${CMAKE_COMMAND} -E env "LD_LIBRARY_PATH=${prefix}/lib:${prefix}/lib/x86_64-linux-gnu" "${WORK_DIR}/build/downstream" "${WORK_DIR}")
-message(STATUS "downstream project built and ran against the installed libbtf")
+run(${CMAKE_COMMAND} -E env "LD_LIBRARY_PATH=${prefix}/lib:${prefix}/lib/x86_64-linux-gnu" "${WORK_DIR}/build/downstream" "${PROGRAM_ARG}")
+message(STATUS "downstream project built and ran against the installed ${COMPONENT} package")

@@ -15,6 +15,7 @@ void registerSampleCommand(CLI::App& app);
 void registerCompressCommand(CLI::App& app);
 void registerDecompressCommand(CLI::App& app);
 void registerMergeCommand(CLI::App& app);
+void registerExportCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerFitCommand(CLI::App& app);

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   add("Convert and compress", btf::cli::registerCompressCommand);
   add("Convert and compress", btf::cli::registerDecompressCommand);
   add("Convert and compress", btf::cli::registerMergeCommand);
+  add("Convert and compress", btf::cli::registerExportCommand);
   add("Sample and render", btf::cli::registerSampleCommand);
   add("Sample and render", btf::cli::registerRenderCommand);
   add("Fit and select", btf::cli::registerFitCommand);

@@ -201,23 +201,136 @@ Rgb VqBtf::weightedSum(int x, int y, const int* views, const int* lights, const 
   const Impl& m = *impl_;
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
   Rgb sum(0.0f);
-  for (int k = 0; k < count; ++k)
-    sum += m.sample(m.ringCode(t, views[k], int(m.lights[std::size_t(lights[k])].ring)), lights[k]) * weights[k];
+  if (m.options.levels == 1) {
+    for (int k = 0; k < count; ++k)
+      sum += m.sample(m.ringCode(t, views[k], int(m.lights[std::size_t(lights[k])].ring)), lights[k]) * weights[k];
+    return sum;
+  }
+  // Interpolation stencils list a view's lights together: its slice code is walked once. The
+  // codes first, then the stored values, then the arithmetic: the loads of one step do not wait
+  // for another's (on tables past the L2 cache the lookups are misses, which then overlap).
+  constexpr int kBlock = 16;
+  std::array<Impl::RingCode, kBlock> codes;
+  std::array<std::uint16_t, kBlock> value, chroma_r, chroma_b;
+  for (int begin = 0; begin < count; begin += kBlock) {
+    const int n = std::min(count - begin, kBlock);
+    int slice_view = -1;
+    Impl::ScaledIndex slice{};
+    for (int k = 0; k < n; ++k) {
+      const int v = views[begin + k];
+      if (v != slice_view) slice = m.sliceCode(t, slice_view = v);
+      codes[std::size_t(k)] = m.ringCode(slice, int(m.lights[std::size_t(lights[begin + k])].ring));
+    }
+    for (int k = 0; k < n; ++k) {
+      const Impl::LightAddress& at = m.lights[std::size_t(lights[begin + k])];
+      const Impl::RingCode& c = codes[std::size_t(k)];
+      const std::uint16_t* q = &m.chroma_flat[at.chroma + 2 * std::size_t(c.chroma) * at.size];
+      value[std::size_t(k)] = m.l1_flat[at.l1 + std::size_t(c.entry) * at.size];
+      chroma_r[std::size_t(k)] = q[0];
+      chroma_b[std::size_t(k)] = q[1];
+    }
+    for (int k = 0; k < n; ++k)
+      sum += Impl::decodeSample(codes[std::size_t(k)].scale, value[std::size_t(k)], chroma_r[std::size_t(k)],
+                                chroma_b[std::size_t(k)], m.chroma_step) *
+             weights[begin + k];
+  }
   return sum;
 }
 
 const BtfRingLayout& VqBtf::ringLayout() const { return impl_->layout; }
 
-void VqBtf::lightRings(int x, int y, int view, std::span<LightRing> rings) const {
+VqBtf::WeightedRings VqBtf::weightedRings(std::span<const float> light_weight) const {
+  const Impl& m = *impl_;
+  if (light_weight.size() != std::size_t(m.layout.lightCount()))
+    throw Error("VqBtf::weightedRings: " + std::to_string(light_weight.size()) + " weights for " +
+                std::to_string(m.layout.lightCount()) + " lights");
+  WeightedRings out;
+  const std::size_t R = m.ringCount();
+  out.cdf.resize(R);
+  out.sum.resize(R);
+  std::array<float, BtfRingLayout::kBandSize> values;  // one entry, decoded and weighted
+  for (int r = 0; r < int(R); ++r) {
+    const std::size_t n = std::size_t(m.ringSize(r)), count = m.l1Count(r);
+    auto& cdf = out.cdf[std::size_t(r)];
+    auto& sum = out.sum[std::size_t(r)];
+    cdf.resize(count * (n + 1));
+    sum.resize(count);
+    for (std::size_t e = 0; e < count; ++e) {
+      for (std::size_t a = 0; a < n; ++a)
+        values[a] = decodeVqEntryValue(m.l1[std::size_t(r)][e * n + a]) * light_weight[std::size_t(m.layout.light(r, int(a)))];
+      sum[e] = float(buildCdf1D(std::span<const float>(values.data(), n), std::span<float>(&cdf[e * (n + 1)], n + 1)) * double(n));
+    }
+  }
+  if (m.options.levels >= 2) {
+    const std::size_t entries = m.l2Count();
+    out.slice_cdf.resize(entries * (R + 1));
+    out.slice_total.resize(entries);
+    std::vector<float> mass(R);
+    for (std::size_t i = 0; i < entries; ++i) {
+      for (std::size_t r = 0; r < R; ++r) {
+        const Impl::RingCode& c = m.l2_codes[i * R + r];
+        mass[r] = std::max(c.scale * out.sum[r][c.entry], 0.0f);
+      }
+      out.slice_total[i] = float(buildCdf1D(mass, std::span<float>(&out.slice_cdf[i * (R + 1)], R + 1)) * double(R));
+    }
+  }
+  return out;
+}
+
+VqBtf::SliceCode VqBtf::sliceCode(int x, int y, int view) const {
   const Impl& m = *impl_;
   const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  if (m.options.levels == 1) return {t, view, 0, 1.0f};
+  const Impl::ScaledIndex c = m.sliceCode(t, view);
+  return {t, view, c.entry, c.scale};
+}
+
+void VqBtf::prefetch(const SliceCode& slice) const {
+  const Impl& m = *impl_;
+  if (m.options.levels == 1) return;
+  const Impl::RingCode* row = &m.l2_codes[std::size_t(slice.entry) * m.ringCount()];
+  for (std::size_t r = 0; r < m.ringCount(); r += 64 / sizeof(Impl::RingCode)) __builtin_prefetch(row + r);
+  __builtin_prefetch(row + m.ringCount() - 1);
+}
+
+static VqBtf::Impl::RingCode sliceRingCode(const VqBtf::Impl& m, const VqBtf::SliceCode& slice, int ring) {
+  if (m.options.levels == 1) return m.ringCode(slice.texel, slice.view, ring);
+  return m.ringCode(VqBtf::Impl::ScaledIndex{slice.entry, slice.scale}, ring);
+}
+
+VqBtf::LightRing VqBtf::lightRing(const SliceCode& slice, int ring, const WeightedRings& weighted) const {
+  const Impl& m = *impl_;
+  const Impl::RingCode code = sliceRingCode(m, slice, ring);
+  const std::size_t n = std::size_t(m.ringSize(ring)), e = code.entry;
+  return {&weighted.cdf[std::size_t(ring)][e * (n + 1)], weighted.sum[std::size_t(ring)][e], code.scale,
+          &m.l1[std::size_t(ring)][e * n]};
+}
+
+VqBtf::RingMarginal VqBtf::ringMarginal(const SliceCode& slice, const WeightedRings& weighted) const {
+  const std::size_t R = impl_->ringCount();
+  return {&weighted.slice_cdf[std::size_t(slice.entry) * (R + 1)], slice.scale * weighted.slice_total[slice.entry]};
+}
+
+float VqBtf::luminance(const SliceCode& slice, int light) const {
+  const Impl& m = *impl_;
+  const Impl::LightAddress& at = m.lights[std::size_t(light)];
+  const Impl::RingCode code = sliceRingCode(m, slice, int(at.ring));
+  return code.scale * decodeVqEntryValue(m.l1_flat[at.l1 + std::size_t(code.entry) * at.size]);
+}
+
+void VqBtf::lightRings(int x, int y, int view, std::span<LightRing> rings, const WeightedRings* weighted) const {
+  const Impl& m = *impl_;
+  const std::size_t t = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+  const std::vector<std::vector<float>>& cdfs = weighted ? weighted->cdf : m.l1_cdf;
+  const std::vector<std::vector<float>>& sums = weighted ? weighted->sum : m.l1_sum;
   // The slice's code once, then its rings (rather than one walk from the texel per ring).
   Impl::ScaledIndex slice{};
   if (m.options.levels >= 2) slice = m.sliceCode(t, view);
   for (int r = 0; r < m.layout.ringCount(); ++r) {
     const Impl::RingCode code = m.options.levels >= 2 ? m.ringCode(slice, r) : m.ringCode(t, view, r);
     const std::size_t n = std::size_t(m.ringSize(r)), e = code.entry;
-    rings[std::size_t(r)] = {&m.l1_cdf[std::size_t(r)][e * (n + 1)], m.l1_sum[std::size_t(r)][e], code.scale};
+    rings[std::size_t(r)] = {&cdfs[std::size_t(r)][e * (n + 1)], sums[std::size_t(r)][e], code.scale,
+                             &m.l1[std::size_t(r)][e * n]};
   }
 }
 

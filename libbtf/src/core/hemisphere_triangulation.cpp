@@ -5,6 +5,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -91,23 +92,39 @@ HemisphereTriangulation::HemisphereTriangulation(std::span<const glm::vec3> dire
     const double area = cornerAngle(a, b, c) + cornerAngle(b, c, a) + cornerAngle(c, a, b) - std::numbers::pi;
     const glm::mat3 m(t.vertex[0], t.vertex[1], t.vertex[2]);
     if (!(area > 1e-12) || !(std::abs(glm::determinant(m)) > 1e-12f)) continue;  // degenerate sliver
-    t.inverse = glm::inverse(m);
     t.solid_angle = float(area);
     t.cos_theta = float(glm::normalize(a + b + c).z);
+    t.density_factor = std::max(t.cos_theta, 0.0f) / 3.0f;
+    t.corner_angle = cornerAngle(a, b, c);
+    t.sin_corner = std::sin(t.corner_angle);
+    t.cos_corner = std::cos(t.corner_angle);
     triangles_.push_back(t);
+    inverse_.push_back(glm::inverse(m));
   }
   if (triangles_.empty()) throw Error("the triangulation of the measured directions has no triangle");
   buildCells();
+  buildIncidence();
 }
 
-int HemisphereTriangulation::nearest(const glm::vec3& w) const {
-  int best = 0;
+int HemisphereTriangulation::nearestOf(const glm::vec3& w, const int* candidates, std::size_t count) const {
+  int best = candidates ? candidates[0] : 0;
   float best_dot = -2.0f;
-  for (int i = 0; i < int(directions_.size()); ++i) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const int i = candidates ? candidates[k] : int(k);
     const float d = glm::dot(directions_[std::size_t(i)], w);
     if (d > best_dot) best_dot = d, best = i;
   }
   return best;
+}
+
+int HemisphereTriangulation::nearest(const glm::vec3& w) const {
+  // Among the cell's candidates, which hold every direction that can be nearest to a point of
+  // the cell (buildCells), in index order: the full scan's answer. Below the horizon (and while
+  // the cells are being built) the full scan.
+  if (nearest_start_.empty() || !(w.z >= 0.0f)) return nearestOf(w, nullptr, directions_.size());
+  const int c = cellOf(w);
+  const int begin = nearest_start_[std::size_t(c)], end = nearest_start_[std::size_t(c) + 1];
+  return nearestOf(w, nearest_directions_.data() + begin, std::size_t(end - begin));
 }
 
 int HemisphereTriangulation::cellOf(const glm::vec3& w) {
@@ -137,7 +154,10 @@ void HemisphereTriangulation::buildCells() {
   };
   std::vector<Cap> triangle_caps;
   for (const Triangle& t : triangles_) triangle_caps.push_back(capOf({t.vertex[0], t.vertex[1], t.vertex[2]}));
-  cells_.assign(std::size_t(kZCells * kPhiCells), {});
+  auto angle = [](const glm::vec3& a, const glm::vec3& b) { return std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f)); };
+  cell_start_.assign(1, 0);
+  cell_triangles_.clear();
+  std::vector<int> nearest_start(1, 0), nearest_directions;
   for (int iz = 0; iz < kZCells; ++iz)
     for (int ip = 0; ip < kPhiCells; ++ip) {
       std::vector<glm::vec3> points;
@@ -149,27 +169,95 @@ void HemisphereTriangulation::buildCells() {
         }
       Cap cell = capOf(points);
       cell.radius += 0.02f;
-      std::vector<int>& list = cells_[std::size_t(iz * kPhiCells + ip)];
+      std::vector<int> candidates;
       for (int t = 0; t < triangleCount(); ++t) {
         const Cap& c = triangle_caps[std::size_t(t)];
-        const float between = std::acos(std::clamp(glm::dot(c.centre, cell.centre), -1.0f, 1.0f));
-        if (c.radius >= 0.5f * kPi || between <= c.radius + cell.radius + 1e-3f) list.push_back(t);
+        if (c.radius >= 0.5f * kPi || angle(c.centre, cell.centre) <= c.radius + cell.radius + 1e-3f) candidates.push_back(t);
       }
+      // Most overlap first (counted on 8 x 8 points of the cell; then by index), so that locate
+      // mostly stops at its first block of candidates.
+      std::vector<int> overlap(candidates.size(), 0);
+      for (int jz = 0; jz < 8; ++jz)
+        for (int jp = 0; jp < 8; ++jp) {
+          const float z = (float(iz) + (float(jz) + 0.5f) / 8.0f) / float(kZCells);
+          const float phi = kTwoPi * (float(ip) + (float(jp) + 0.5f) / 8.0f) / float(kPhiCells);
+          const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+          const glm::vec3 p(r * std::cos(phi), r * std::sin(phi), z);
+          for (std::size_t k = 0; k < candidates.size(); ++k) overlap[k] += int(inside(candidates[k], p));
+        }
+      std::vector<std::size_t> order(candidates.size());
+      for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return overlap[a] > overlap[b]; });
+      for (const std::size_t k : order) cell_triangles_.push_back(candidates[k]);
+      cell_start_.push_back(int(cell_triangles_.size()));
+      // The direction n nearest to a point p of the cell is at most angle(p, m) <= radius + d from
+      // p, with m nearest to the centre at angle d; so n is within d + 2 radius of the centre.
+      float d = 4.0f;
+      for (const glm::vec3& m : directions_) d = std::min(d, angle(m, cell.centre));
+      for (int i = 0; i < directionCount(); ++i)
+        if (angle(directions_[std::size_t(i)], cell.centre) <= d + 2.0f * cell.radius + 1e-3f) nearest_directions.push_back(i);
+      nearest_start.push_back(int(nearest_directions.size()));
     }
+  nearest_start_ = std::move(nearest_start);
+  nearest_directions_ = std::move(nearest_directions);
+}
+
+void HemisphereTriangulation::buildIncidence() {
+  const std::size_t n = directions_.size();
+  // Per direction, its corners' triangles (a triangle twice where two of its corners stand for
+  // it) and their weights, accumulated in double.
+  std::vector<std::vector<std::pair<int, double>>> corners(n);
+  for (int t = 0; t < triangleCount(); ++t) {
+    const Triangle& tri = triangles_[std::size_t(t)];
+    const double w = double(std::max(tri.cos_theta, 0.0f)) * double(tri.solid_angle) / 3.0;
+    for (const int d : tri.direction) {
+      auto& list = corners[std::size_t(d)];
+      if (!list.empty() && list.back().first == t) list.back().second += w;
+      else list.emplace_back(t, w);
+    }
+  }
+  incident_start_.assign(1, 0);
+  incident_triangle_.clear();
+  incident_cdf_.clear();
+  direction_weight_.assign(n, 0.0f);
+  for (std::size_t d = 0; d < n; ++d) {
+    double sum = 0;
+    for (const auto& [t, w] : corners[d]) sum += w;
+    direction_weight_[d] = float(sum);
+    // The CDF of the shares (uniform where the direction has no weight: it is then never chosen).
+    incident_cdf_.push_back(0.0f);
+    double running = 0;
+    for (std::size_t k = 0; k < corners[d].size(); ++k) {
+      running += corners[d][k].second;
+      incident_triangle_.push_back(corners[d][k].first);
+      const bool last = k + 1 == corners[d].size();
+      incident_cdf_.push_back(last ? 1.0f : sum > 0 ? float(running / sum) : float(double(k + 1) / double(corners[d].size())));
+    }
+    incident_start_.push_back(int(incident_triangle_.size()));
+  }
 }
 
 bool HemisphereTriangulation::inside(int t, const glm::vec3& w) const {
-  const glm::vec3 b = triangles_[std::size_t(t)].inverse * w;
-  return b.x >= 0.0f && b.y >= 0.0f && b.z >= 0.0f && b.x + b.y + b.z > 0.0f;
+  const glm::vec3 b = inverse_[std::size_t(t)] * w;
+  // & rather than &&: no branch per comparison (which one fails is random for random w).
+  return (b.x >= 0.0f) & (b.y >= 0.0f) & (b.z >= 0.0f) & (b.x + b.y + b.z > 0.0f);
 }
 
 int HemisphereTriangulation::locate(const glm::vec3& w) const {
-  // The first triangle, in index order, that holds w: among its cell's candidates, else (a
-  // direction the caps' margins missed) among all. The same answer on every thread and for every
-  // order of queries, so that sample() and pdf() agree.
+  // The first triangle that holds w among its cell's candidates (in the cell's order: most
+  // overlap first), else (a direction the caps' margins missed) the first in index order among
+  // all. A function of w alone, the same on every thread and for every order of queries, so that
+  // sample() and pdf() agree. The candidates are tested four at a time into a mask, whose first
+  // bit is the answer: one branch per four tests, not one mispredicted exit per test.
   if (!(w.z >= 0.0f)) return -1;
-  for (const int t : cells_[std::size_t(cellOf(w))])
-    if (inside(t, w)) return t;
+  const int c = cellOf(w);
+  const int* list = cell_triangles_.data();
+  for (int k0 = cell_start_[std::size_t(c)], end = cell_start_[std::size_t(c) + 1]; k0 < end; k0 += 4) {
+    const int n = std::min(4, end - k0);
+    unsigned mask = 0;
+    for (int j = 0; j < n; ++j) mask |= unsigned(inside(list[k0 + j], w)) << j;
+    if (mask != 0) return list[k0 + std::countr_zero(mask)];
+  }
   for (int t = 0; t < triangleCount(); ++t)
     if (inside(t, w)) return t;
   return -1;
@@ -184,8 +272,13 @@ HemisphereTriangulation::Stencil HemisphereTriangulation::stencil(const glm::vec
     s.count = 1;
     return s;
   }
+  return stencilIn(t, w);
+}
+
+HemisphereTriangulation::Stencil HemisphereTriangulation::stencilIn(int t, const glm::vec3& w) const {
+  Stencil s;
   const Triangle& tri = triangles_[std::size_t(t)];
-  const glm::vec3 b = glm::max(tri.inverse * w, glm::vec3(0.0f));
+  const glm::vec3 b = glm::max(inverse_[std::size_t(t)] * w, glm::vec3(0.0f));
   const float sum = b.x + b.y + b.z;
   for (std::size_t k = 0; k < 3; ++k) {
     const float weight = b[int(k)] / sum;
@@ -208,12 +301,12 @@ glm::vec3 HemisphereTriangulation::sampleTriangle(int t, glm::vec2 u) const {
   const glm::dvec3 a(tri.vertex[0]), b(tri.vertex[1]), c(tri.vertex[2]);
   // Arvo's construction: the sub-triangle (a, b, c') of area u.x times the whole, then a point on
   // the arc b-c' at the distance that makes the density uniform.
-  const double alpha = cornerAngle(a, b, c);
+  const double alpha = tri.corner_angle;
   const double area = double(tri.solid_angle) * double(u.x);
   const double s = std::sin(area - alpha), cs = std::cos(area - alpha);
-  const double p = cs - std::cos(alpha), q = s + std::sin(alpha) * glm::dot(a, b);
-  const double denominator = (q * s + p * cs) * std::sin(alpha);
-  double cos_b = denominator != 0.0 ? ((q * cs - p * s) * std::cos(alpha) - q) / denominator : 1.0;
+  const double p = cs - tri.cos_corner, q = s + tri.sin_corner * glm::dot(a, b);
+  const double denominator = (q * s + p * cs) * tri.sin_corner;
+  double cos_b = denominator != 0.0 ? ((q * cs - p * s) * tri.cos_corner - q) / denominator : 1.0;
   cos_b = std::clamp(cos_b, -1.0, 1.0);
   glm::dvec3 ca = c - glm::dot(c, a) * a;
   const double lca = glm::length(ca);

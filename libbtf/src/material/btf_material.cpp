@@ -126,12 +126,29 @@ struct BtfMaterial::LightTables {
   double total = 0;
   // Storage for the generic path (the VQ path points into the codebook instead).
   std::array<float, kBtfDirectionCount + kBtfRingCount> cdf_storage;
-  // On other sets (btf_scattered_directions.h): the view's light triangulation and the CDF of its
-  // triangles.
+  // On other sets (btf_scattered_directions.h): the view's light triangulation and sum_l f_l W_l
+  // (hemisphere_triangulation.h); from the codebooks of a VqBtf whose views share their lights,
+  // the slice's rings with the entries weighted by W (VqBtf::weightedRings) and their marginal,
+  // else every light's f and the CDF of f_l W_l. The vectors live in the per-thread cache and keep
+  // their memory.
   const HemisphereTriangulation* triangulation = nullptr;
-  std::vector<float> triangle_cdf;
-  std::vector<float> light_luminance, triangle_mass;  // work buffers, kept to reuse their memory
+  float weighted_total = 0;
+  bool weighted = false;    // from the weighted codebook: slice and ring_marginal below
+  VqBtf::SliceCode slice{};
+  const float* ring_marginal = nullptr;  // ringCount() + 1 entries
+  std::vector<VqBtf::LightRing> rings;
+  std::vector<float> rings_cdf, light_luminance, light_cdf, light_mass;
 };
+
+namespace {
+// The density of a draw in triangle t (hemisphere_triangulation.h): the one expression sample
+// and pdf share, so that they agree bit for bit. `f(l)` is light l's luminance.
+template <class Luminance>
+float triangleDensity(const HemisphereTriangulation& lights, int t, float total, const Luminance& f) {
+  const std::array<int, 3>& d = lights.triangleDirections(t);
+  return lights.triangleDensityFactor(t) * (f(d[0]) + f(d[1]) + f(d[2])) / total;
+}
+}  // namespace
 
 BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter filter, std::string name)
     : btf_(std::move(btf)), vq_(nullptr), filter_(filter), name_(std::move(name)) {
@@ -146,6 +163,14 @@ BtfMaterial::BtfMaterial(std::shared_ptr<const BtfLookup> btf, BtfTexelFilter fi
   if (!views.directions().indexedAsUbo2003()) {
     view_rings_ = 0;
     scattered_ = std::make_shared<const BtfScatteredDirections>(views);
+    // From the codebooks when all views share one light triangulation: the level-1 entries
+    // weighted by the lights' triangle weights, once (the per-entry equivalent of the rings' sums).
+    if (vq_ && scattered_->sharedLights()) {
+      const HemisphereTriangulation& lights = *scattered_->sharedLights();
+      std::vector<float> weight(std::size_t(lights.directionCount()));
+      for (std::size_t l = 0; l < weight.size(); ++l) weight[l] = lights.directionWeight(int(l));
+      weighted_rings_ = std::make_shared<const VqBtf::WeightedRings>(vq_->weightedRings(weight));
+    }
     return;
   }
   // Interpolation over wo needs whole rings from the pole; a BTF of other views (a few scattered
@@ -163,7 +188,7 @@ Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) co
   std::array<float, 16> weights;
   int count = 0;
   if (scattered_) {
-    count = scattered_->stencil(wi, wo, views.data(), lights.data(), weights.data());
+    count = scattered_->stencil(scattered_->viewStencil(wo), wi, -1, views.data(), lights.data(), weights.data());
   } else {
     const DirectionStencil light = stencil(wi), view = stencil(wo, view_rings_);
     for (int v = 0; v < view.count; ++v)
@@ -175,11 +200,14 @@ Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) co
         weights[std::size_t(count++)] = w;
       }
   }
+  return interpolate(views.data(), lights.data(), weights.data(), count, uv);
+}
+
+Rgb BtfMaterial::interpolate(const int* views, const int* lights, const float* weights, int count, glm::vec2 uv) const {
   auto texelValue = [&](int x, int y) {
-    if (vq_) return vq_->weightedSum(x, y, views.data(), lights.data(), weights.data(), count);
+    if (vq_) return vq_->weightedSum(x, y, views, lights, weights, count);
     Rgb sum;
-    for (int k = 0; k < count; ++k)
-      sum += weights[std::size_t(k)] * btf_->value(x, y, views[std::size_t(k)], lights[std::size_t(k)]);
+    for (int k = 0; k < count; ++k) sum += weights[k] * btf_->value(x, y, views[k], lights[k]);
     return sum;
   };
   if (filter_ == BtfTexelFilter::Nearest || (width_ == 1 && height_ == 1))
@@ -197,9 +225,8 @@ Rgb BtfMaterial::eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) co
   return sum;
 }
 
-const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, glm::vec2 uv) const {
+const BtfMaterial::LightTables& BtfMaterial::lightTables(int view, glm::vec2 uv) const {
   const int x = nearestTexel(uv.x, width_), y = nearestTexel(uv.y, height_);
-  const int view = scattered_ ? scattered_->nearestView(wo) : nearestView(wo, view_rings_);
   // One slice's tables per thread are kept: pdf is mostly called for the same wo and uv as the
   // sample before it (MIS, chi-square quadrature), so the slice is decoded once. Keyed by a
   // per-material id, not the address, which a later material may reuse.
@@ -215,23 +242,44 @@ const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, gl
   cache.view = view;
   LightTables& tables = cache.tables;
   if (scattered_) {
-    // Triangle masses: solid angle x cos theta at the centre x the mean luminance of the corners.
     const HemisphereTriangulation& lights = scattered_->lights(view);
     tables.triangulation = &lights;
-    // The buffers live in the per-thread cache: a sampler rebuilds these tables for every new wo
-    // or texel, and allocates nothing once they have grown.
-    std::vector<float>& lum = tables.light_luminance;
-    lum.resize(std::size_t(btf_->lookupViews().directions().lightCount(view)));
-    for (std::size_t l = 0; l < lum.size(); ++l) lum[l] = std::max(btf_->value(x, y, view, int(l)).luminance(), 0.0f);
-    std::vector<float>& mass = tables.triangle_mass;
-    mass.resize(std::size_t(lights.triangleCount()));
-    for (int t = 0; t < lights.triangleCount(); ++t) {
-      const auto& d = lights.triangleDirections(t);
-      const float mean = (lum[std::size_t(d[0])] + lum[std::size_t(d[1])] + lum[std::size_t(d[2])]) / 3.0f;
-      mass[std::size_t(t)] = mean * std::max(lights.triangleCosTheta(t), 0.0f) * lights.triangleSolidAngle(t);
+    if (weighted_rings_) {
+      // The rings' marginal: the level-2 entry's, precomputed (VqBtf::weightedRings); with one
+      // level, from the rings' masses scale x (sum over the entry of value x W).
+      tables.weighted = true;
+      tables.slice = vq_->sliceCode(x, y, view);
+      if (vq_->options().levels >= 2) {
+        const VqBtf::RingMarginal marginal = vq_->ringMarginal(tables.slice, *weighted_rings_);
+        tables.ring_marginal = marginal.cdf;
+        tables.weighted_total = marginal.total;
+        tables.total = double(marginal.total);
+        return tables;
+      }
+      const int R = vq_->ringLayout().ringCount();
+      tables.rings.resize(std::size_t(R));
+      vq_->lightRings(x, y, view, tables.rings, weighted_rings_.get());
+      tables.light_mass.resize(std::size_t(R));
+      for (int r = 0; r < R; ++r)
+        tables.light_mass[std::size_t(r)] = std::max(tables.rings[std::size_t(r)].scale * tables.rings[std::size_t(r)].sum, 0.0f);
+      tables.rings_cdf.resize(std::size_t(R) + 1);
+      tables.weighted_total = float(buildCdf1D(tables.light_mass, tables.rings_cdf) * double(R));
+      tables.total = double(tables.weighted_total);
+      tables.ring_marginal = tables.rings_cdf.data();
+      return tables;
     }
-    tables.triangle_cdf.resize(mass.size() + 1);
-    tables.total = buildCdf1D(mass, tables.triangle_cdf);
+    tables.weighted = false;
+    // Every light's luminance, and the CDF of f_l W_l.
+    const std::size_t n = std::size_t(btf_->lookupViews().directions().lightCount(view));
+    tables.light_luminance.resize(n);
+    tables.light_mass.resize(n);
+    for (std::size_t l = 0; l < n; ++l) {
+      tables.light_luminance[l] = std::max(btf_->value(x, y, view, int(l)).luminance(), 0.0f);
+      tables.light_mass[l] = tables.light_luminance[l] * lights.directionWeight(int(l));
+    }
+    tables.light_cdf.resize(n + 1);
+    tables.weighted_total = float(buildCdf1D(tables.light_mass, tables.light_cdf) * double(n));
+    tables.total = double(tables.weighted_total);
     return tables;
   }
   const RingCells& cells = ringCells();
@@ -260,28 +308,77 @@ const BtfMaterial::LightTables& BtfMaterial::lightTables(const glm::vec3& wo, gl
 }
 
 std::optional<BsdfSample> BtfMaterial::sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const {
+  if (scattered_) {
+    // The draw's view stencil and light triangle serve the weight's interpolation too (what
+    // eval(wi, wo, uv) would locate again): the same triples, so the same f.
+    if (!(wo.z > 0.0f)) return std::nullopt;
+    const HemisphereTriangulation::Stencil view = scattered_->viewStencil(wo);
+    // The weight's interpolation reads these views' slices after the draw: their codes are
+    // fetched now, while the draw computes (nearest texel; the bilinear filter's other texels
+    // are left to the cache).
+    if (vq_)
+      for (int k = 0; k < view.count; ++k)
+        vq_->prefetch(vq_->sliceCode(nearestTexel(uv.x, width_), nearestTexel(uv.y, height_), view.index[std::size_t(k)]));
+    const std::optional<ScatteredDraw> d = drawScattered(view, uv, u);
+    if (!d) return std::nullopt;
+    std::array<int, 16> views, lights;
+    std::array<float, 16> weights;
+    const int count = scattered_->stencil(view, d->wi, scattered_->sharedLights() ? d->triangle : -1, views.data(),
+                                          lights.data(), weights.data());
+    const Rgb f = interpolate(views.data(), lights.data(), weights.data(), count, uv);
+    return BsdfSample{d->wi, f * (d->wi.z / d->pdf), d->pdf};
+  }
   const std::optional<DirectionSample> d = sampleDirection(wo, uv, u);
   if (!d) return std::nullopt;
   const Rgb f = eval(d->wi, wo, uv);
   return BsdfSample{d->wi, f * (d->wi.z / d->pdf), d->pdf};
 }
 
+std::optional<BtfMaterial::ScatteredDraw> BtfMaterial::drawScattered(const HemisphereTriangulation::Stencil& view,
+                                                                     glm::vec2 uv, glm::vec2 u) const {
+  const LightTables& tables = lightTables(BtfScatteredDirections::samplingView(view), uv);
+  if (!(tables.total > 0)) return std::nullopt;
+  // A light with probability f_l W_l / total (its ring, then its place in the ring's weighted
+  // entry), one of its triangles by its share, a point uniform in that triangle.
+  const HemisphereTriangulation& lights = *tables.triangulation;
+  int light;
+  float u_point;
+  if (tables.weighted) {
+    const BtfRingLayout& layout = vq_->ringLayout();
+    const DiscreteSample ring =
+        sampleDiscrete(std::span<const float>(tables.ring_marginal, std::size_t(layout.ringCount()) + 1), u.x);
+    const int r = int(ring.index);
+    const VqBtf::LightRing entry = vq_->lightRing(tables.slice, r, *weighted_rings_);
+    const DiscreteSample place = sampleDiscrete(std::span<const float>(entry.cdf, std::size_t(layout.size(r)) + 1), ring.remapped);
+    light = layout.light(r, int(place.index));
+    u_point = place.remapped;
+  } else {
+    const DiscreteSample l = sampleDiscrete(tables.light_cdf, u.x);
+    light = int(l.index);
+    u_point = l.remapped;
+  }
+  const DiscreteSample share = sampleDiscrete(lights.incidentCdf(light), u.y);
+  const int t = lights.incidentTriangles(light)[share.index];
+  const glm::vec3 wi = lights.sampleTriangle(t, {u_point, share.remapped});
+  // A direction on an edge, within float rounding, may be located in the neighbour triangle: it
+  // is kept only where pdf() attributes it to the triangle it was drawn from, so that pdf is the
+  // density of what is returned (the set dropped has measure zero).
+  if (!(wi.z > 0.0f) || lights.locate(wi) != t) return std::nullopt;
+  const float density = scatteredDensity(tables, t);
+  if (!(density > 0.0f)) return std::nullopt;
+  return ScatteredDraw{wi, density, t};
+}
+
 std::optional<BtfMaterial::DirectionSample> BtfMaterial::sampleDirection(const glm::vec3& wo, glm::vec2 uv,
                                                                          glm::vec2 u) const {
   if (!(wo.z > 0.0f)) return std::nullopt;
-  const LightTables& tables = lightTables(wo, uv);
-  if (!(tables.total > 0)) return std::nullopt;
   if (scattered_) {
-    const DiscreteSample t = sampleDiscrete(tables.triangle_cdf, u.x);
-    const HemisphereTriangulation& lights = *tables.triangulation;
-    const float density = t.probability / lights.triangleSolidAngle(int(t.index));
-    const glm::vec3 wi = lights.sampleTriangle(int(t.index), {t.remapped, u.y});
-    // A direction on an edge, within float rounding, may be located in the neighbour triangle: it
-    // is kept only where pdf() attributes it to the triangle it was drawn from, so that pdf is the
-    // density of what is returned (the set dropped has measure zero).
-    if (!(density > 0.0f) || !(wi.z > 0.0f) || lights.locate(wi) != int(t.index)) return std::nullopt;
-    return DirectionSample{wi, density};
+    const std::optional<ScatteredDraw> d = drawScattered(scattered_->viewStencil(wo), uv, u);
+    if (!d) return std::nullopt;
+    return DirectionSample{d->wi, d->pdf};
   }
+  const LightTables& tables = lightTables(nearestView(wo, view_rings_), uv);
+  if (!(tables.total > 0)) return std::nullopt;
   const DiscreteSample ring_choice = sampleDiscrete(tables.ring_cdf, u.x);
   const int r = int(ring_choice.index), n = btfRingSize(r);
   const std::span<const float> cdf(tables.cdf[std::size_t(r)], std::size_t(n) + 1);
@@ -304,20 +401,28 @@ std::optional<BtfMaterial::DirectionSample> BtfMaterial::sampleDirection(const g
 
 float BtfMaterial::pdf(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv) const {
   if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return 0.0f;
-  const LightTables& tables = lightTables(wo, uv);
-  if (!(tables.total > 0)) return 0.0f;
   if (scattered_) {
+    const LightTables& tables = lightTables(BtfScatteredDirections::samplingView(scattered_->viewStencil(wo)), uv);
+    if (!(tables.total > 0)) return 0.0f;
     const int t = tables.triangulation->locate(wi);
-    if (t < 0) return 0.0f;
-    return (tables.triangle_cdf[std::size_t(t) + 1] - tables.triangle_cdf[std::size_t(t)]) /
-           tables.triangulation->triangleSolidAngle(t);
+    return t < 0 ? 0.0f : scatteredDensity(tables, t);
   }
+  const LightTables& tables = lightTables(nearestView(wo, view_rings_), uv);
+  if (!(tables.total > 0)) return 0.0f;
   int r, a;
   lightCell(wi, r, a);
   const float* cdf = tables.cdf[std::size_t(r)];
   const float p_ring = tables.ring_cdf[std::size_t(r) + 1] - tables.ring_cdf[std::size_t(r)];
   const float p_azimuth = cdf[a + 1] - cdf[a];
   return p_ring * p_azimuth / ringCells().cell_solid_angle[std::size_t(r)];
+}
+
+float BtfMaterial::scatteredDensity(const LightTables& tables, int t) const {
+  if (tables.weighted)
+    return triangleDensity(*tables.triangulation, t, tables.weighted_total,
+                           [&](int l) { return vq_->luminance(tables.slice, l); });
+  return triangleDensity(*tables.triangulation, t, tables.weighted_total,
+                         [&](int l) { return tables.light_luminance[std::size_t(l)]; });
 }
 
 namespace {

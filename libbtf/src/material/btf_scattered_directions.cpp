@@ -1,6 +1,5 @@
 #include "btf_scattered_directions.h"
 
-#include <atomic>
 
 namespace btf {
 namespace {
@@ -15,8 +14,6 @@ std::vector<glm::vec3> heldViewDirections(const BtfViewSet& views) {
 
 BtfScatteredDirections::BtfScatteredDirections(const BtfViewSet& views)
     : views_(heldViewDirections(views)), held_(views.views()) {
-  static std::atomic<std::uint64_t> next_id{1};
-  id_ = next_id++;
   const BtfDirectionSet& set = views.directions();
   lights_.resize(std::size_t(set.viewCount()));
   std::shared_ptr<const HemisphereTriangulation> shared;
@@ -28,29 +25,31 @@ BtfScatteredDirections::BtfScatteredDirections(const BtfViewSet& views)
     lights_[std::size_t(v)] = std::make_shared<const HemisphereTriangulation>(set.lightDirections(v));
     if (set.sharedLights()) shared = lights_[std::size_t(v)];
   }
+  shared_ = shared;
 }
 
-int BtfScatteredDirections::nearestView(const glm::vec3& wo) const {
-  // A sample and the pdf() calls after it ask for the same wo (MIS, the chi-square quadrature): the
-  // last answer on this thread is kept (a pure function of wo, so the memo changes no result).
-  thread_local std::uint64_t memo_id = 0;
-  thread_local glm::vec3 memo_wo(0.0f);
-  thread_local int memo_view = 0;
-  if (memo_id != id_ || memo_wo != wo) {
-    memo_id = id_;
-    memo_wo = wo;
-    memo_view = held_[std::size_t(views_.nearest(wo))];
-  }
-  return memo_view;
+HemisphereTriangulation::Stencil BtfScatteredDirections::viewStencil(const glm::vec3& wo) const {
+  HemisphereTriangulation::Stencil s = views_.stencil(wo);
+  for (int k = 0; k < s.count; ++k) s.index[std::size_t(k)] = held_[std::size_t(s.index[std::size_t(k)])];
+  return s;
 }
 
-int BtfScatteredDirections::stencil(const glm::vec3& wi, const glm::vec3& wo, int* views, int* lights,
-                                    float* weights) const {
-  const HemisphereTriangulation::Stencil view = views_.stencil(wo);
+int BtfScatteredDirections::samplingView(const HemisphereTriangulation::Stencil& view) {
+  int best = 0;
+  for (int k = 1; k < view.count; ++k)
+    if (view.weight[std::size_t(k)] > view.weight[std::size_t(best)]) best = k;
+  return view.index[std::size_t(best)];
+}
+
+int BtfScatteredDirections::stencil(const HemisphereTriangulation::Stencil& view, const glm::vec3& wi, int light_triangle,
+                                    int* views, int* lights, float* weights) const {
+  // Lights shared by all views: one location of wi serves the three views.
+  HemisphereTriangulation::Stencil light;
+  if (shared_) light = light_triangle >= 0 ? shared_->stencilIn(light_triangle, wi) : shared_->stencil(wi);
   int count = 0;
   for (int k = 0; k < view.count; ++k) {
-    const int v = held_[std::size_t(view.index[std::size_t(k)])];
-    const HemisphereTriangulation::Stencil light = lights_[std::size_t(v)]->stencil(wi);
+    const int v = view.index[std::size_t(k)];
+    if (!shared_) light = lights_[std::size_t(v)]->stencil(wi);
     for (int j = 0; j < light.count; ++j) {
       views[count] = v;
       lights[count] = light.index[std::size_t(j)];

@@ -8,7 +8,6 @@
 // the lights of each view (once for all views when they share one list).
 #pragma once
 
-#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -22,19 +21,27 @@ class BtfScatteredDirections {
   // Throws btf::Error when a triangulation fails.
   explicit BtfScatteredDirections(const BtfViewSet& views);
 
-  // The (view, light, weight) triples whose weighted sum interpolates the pair (wi, wo): at most
-  // 9, weights summing to 1. Returns their count.
+  // The held views around wo and their interpolation weights (as view indices).
+  HemisphereTriangulation::Stencil viewStencil(const glm::vec3& wo) const;
+  // The view sampling draws from: the view stencil's of largest weight (the first among equals),
+  // the held view nearest wo but for points near the middle of a triangle of views.
+  static int samplingView(const HemisphereTriangulation::Stencil& view);
+  // The (view, light, weight) triples whose weighted sum interpolates the pair (wi, wo), from wo's
+  // view stencil: at most 9, weights summing to 1. Returns their count. light_triangle >= 0 is
+  // wi's triangle in the shared light triangulation when the caller knows it (it must then be
+  // sharedLights()->locate(wi)), -1 to locate it.
   static constexpr int kMaxStencil = 9;
-  int stencil(const glm::vec3& wi, const glm::vec3& wo, int* views, int* lights, float* weights) const;
-  // The held view nearest to wo (sampling draws from its light slice).
-  int nearestView(const glm::vec3& wo) const;
+  int stencil(const HemisphereTriangulation::Stencil& view, const glm::vec3& wi, int light_triangle, int* views,
+              int* lights, float* weights) const;
   const HemisphereTriangulation& lights(int view) const { return *lights_[std::size_t(view)]; }
+  // The light triangulation of every view when the set's views share one light list, else null.
+  const HemisphereTriangulation* sharedLights() const { return shared_.get(); }
 
  private:
   HemisphereTriangulation views_;  // of the held views, in slot order
   std::vector<int> held_;          // view index of each slot
   std::vector<std::shared_ptr<const HemisphereTriangulation>> lights_;  // per view index (null: not held)
-  std::uint64_t id_;  // for nearestView's per-thread memo
+  std::shared_ptr<const HemisphereTriangulation> shared_;  // the one of all views when they share their lights, else null
 };
 
 }  // namespace btf

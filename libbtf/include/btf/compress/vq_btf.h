@@ -133,14 +133,52 @@ class VqBtf final : public BtfSource, public BtfLookup {
   // The light slice of texel (x, y) and a view as its rings, for samplers that work on the
   // compressed form (material/btf_material.h): ring r's level-1 entry as the normalized prefix
   // sums of its values (cdf, ringLayout().size(r) + 1 entries, as buildCdf1D writes them) and their
-  // total (sum); the ring's luminance at place a is scale * sum * (cdf[a + 1] - cdf[a]).
+  // total (sum); the ring's luminance at place a is scale * sum * (cdf[a + 1] - cdf[a]), or
+  // scale * values[a] / 65535 from the entry's stored values.
   // `rings` holds ringLayout().ringCount() entries. A few lookups.
   struct LightRing {
     const float* cdf;
     float sum;
     float scale;
+    const std::uint16_t* values;
   };
-  void lightRings(int x, int y, int view, std::span<LightRing> rings) const;
+  // The same prefix sums and totals of every level-1 entry with its values weighted per light:
+  // value a of ring r's entry times light_weight[ringLayout().light(r, a)] (what a sampler that
+  // weighs lights unequally, by the cells they stand for, draws from; the plain tables are those
+  // of weight 1). With two or three levels, also per level-2 entry the marginal over its rings:
+  // the CDF of (its ring code's scale x the weighted total of that code's entry) and their sum,
+  // which a light slice scales by its own level-2 scale alone, so that choosing a ring reads one
+  // record. Built once for a set of weights.
+  struct WeightedRings {
+    std::vector<std::vector<float>> cdf, sum;  // per ring: entries x (size + 1), entries
+    std::vector<float> slice_cdf, slice_total;  // per level-2 entry: ringCount() + 1, 1
+  };
+  WeightedRings weightedRings(std::span<const float> light_weight) const;
+  void lightRings(int x, int y, int view, std::span<LightRing> rings, const WeightedRings* weighted = nullptr) const;
+  // One light slice (texel, view) for lookups of single rings and lights: its level-2 code
+  // (levels >= 2) or where its level-1 codes start (levels 1).
+  struct SliceCode {
+    std::size_t texel;
+    int view;
+    std::uint32_t entry;  // level-2 entry (levels >= 2)
+    float scale;          // its scale
+  };
+  SliceCode sliceCode(int x, int y, int view) const;
+  // Asks the cache for the slice's ring codes (a hint: no result; for callers that will read the
+  // slice after other work, so that the misses overlap with it).
+  void prefetch(const SliceCode& slice) const;
+  // Ring r of the slice, as lightRings gives it (from `weighted`'s tables).
+  LightRing lightRing(const SliceCode& slice, int ring, const WeightedRings& weighted) const;
+  // The marginal over the slice's rings from `weighted` (levels >= 2): the level-2 entry's CDF
+  // (ringCount() + 1 entries) and the slice's total, its scale times the entry's.
+  struct RingMarginal {
+    const float* cdf;
+    float total;
+  };
+  RingMarginal ringMarginal(const SliceCode& slice, const WeightedRings& weighted) const;
+  // The luminance the codebook holds for a light of the slice (its ring code's scale x the
+  // entry's value): what the samplers' ring masses sum.
+  float luminance(const SliceCode& slice, int light) const;
   // Sum over k < count of weights[k] * value(x, y, views[k], lights[k]): BtfMaterial's
   // interpolation in one call per texel rather than one virtual call per entry.
   Rgb weightedSum(int x, int y, const int* views, const int* lights, const float* weights, int count) const;

@@ -38,6 +38,8 @@ class HemisphereTriangulation {
     int count = 0;
   };
   Stencil stencil(const glm::vec3& w) const;
+  // The same for a w known to lie in triangle t (t = locate(w) >= 0): what stencil(w) returns.
+  Stencil stencilIn(int t, const glm::vec3& w) const;
 
   // The triangles over the upper hemisphere (the sampling cells): their measured directions (a
   // virtual one given as the measured direction it stands for) and solid angles, which sum to 2 pi.
@@ -51,27 +53,54 @@ class HemisphereTriangulation {
   // A direction uniformly distributed (in solid angle) in triangle t (Arvo 1995, "Stratified
   // sampling of spherical triangles"), u in [0, 1)^2.
   glm::vec3 sampleTriangle(int t, glm::vec2 u) const;
-  // The measured direction nearest to w.
+  // The measured direction nearest to w (the first in index order among equals).
   int nearest(const glm::vec3& w) const;
   int directionCount() const { return int(directions_.size()); }
+
+  // Sampling the triangles through their corners (btf_material.h). Triangle t has the weight
+  // w_t = max(cos theta at its centre, 0) x solid angle / 3 per corner; a measured direction d
+  // collects the weights of the corners it is (directionWeight(d) = W_d, a virtual corner counting
+  // for the direction it stands for), and its triangles come with the CDF of their shares
+  // (incidentTriangles(d), incidentCdf(d): count + 1 entries). Choosing d with probability
+  // proportional to f_d W_d, then one of its triangles from that CDF, draws triangle t with
+  // probability w_t (f_a + f_b + f_c) / sum_d f_d W_d over its corners a, b, c: the mean of its
+  // corners times cos x solid angle, without a table per set of values f. The density in solid
+  // angle of that draw is triangleDensityFactor(t) (f_a + f_b + f_c) / sum_d f_d W_d, with the
+  // factor max(cos theta, 0) / 3.
+  float directionWeight(int d) const { return direction_weight_[std::size_t(d)]; }
+  std::span<const int> incidentTriangles(int d) const {
+    return {incident_triangle_.data() + incident_start_[std::size_t(d)],
+            std::size_t(incident_start_[std::size_t(d) + 1] - incident_start_[std::size_t(d)])};
+  }
+  std::span<const float> incidentCdf(int d) const {
+    return {incident_cdf_.data() + incident_start_[std::size_t(d)] + std::size_t(d),
+            std::size_t(incident_start_[std::size_t(d) + 1] - incident_start_[std::size_t(d)]) + 1};
+  }
+  float triangleDensityFactor(int t) const { return triangles_[std::size_t(t)].density_factor; }
 
  private:
   struct Triangle {
     std::array<glm::vec3, 3> vertex;  // unit vectors (virtual ones included)
     std::array<int, 3> direction;     // measured direction of each vertex
-    glm::mat3 inverse;                // of the matrix of columns vertex[0..2]
-    float solid_angle, cos_theta;
+    float solid_angle, cos_theta, density_factor;
+    double corner_angle, sin_corner, cos_corner;  // interior angle at vertex 0 (Arvo's alpha), its sin and cos
   };
   bool inside(int t, const glm::vec3& w) const;
-  // locate()'s search grid: cells equal in cos theta and phi, each with the triangles that may
-  // meet it (ascending).
-  static constexpr int kZCells = 16, kPhiCells = 32;
+  // locate()'s and nearest()'s search grid: cells equal in cos theta and phi, each with the
+  // triangles that may meet it and the directions that may be nearest to a point in it
+  // (ascending; flat lists, cell c's from start[c] to start[c + 1]).
+  static constexpr int kZCells = 32, kPhiCells = 64;
   static int cellOf(const glm::vec3& w);
   void buildCells();
+  void buildIncidence();
+  int nearestOf(const glm::vec3& w, const int* candidates, std::size_t count) const;
 
   std::vector<glm::vec3> directions_;
   std::vector<Triangle> triangles_;
-  std::vector<std::vector<int>> cells_;
+  std::vector<glm::mat3> inverse_;  // per triangle, of the matrix of columns vertex[0..2] (locate's one read)
+  std::vector<int> cell_start_, cell_triangles_, nearest_start_, nearest_directions_;
+  std::vector<float> direction_weight_, incident_cdf_;
+  std::vector<int> incident_start_, incident_triangle_;
 };
 
 }  // namespace btf

@@ -28,22 +28,34 @@
 // one of the lights of each view: eval weighs the three measured views around wo and, for each,
 // the three measured lights around wi by their barycentric weights (at most 9 pairs; exact at
 // measured directions; beyond the outermost directions constant along the elevation). sample
-// draws from the light slice of the held view nearest wo, one triangle of its light
-// triangulation with probability proportional to its solid angle x cos theta at its centre x the
-// mean luminance of its three corners, then a point uniform in the triangle's solid angle; pdf is
-// that piecewise-constant density. Why triangulations, not rings or a kernel: they work on any
-// directions, need no bandwidth, and interpolate from the fewest measured values.
+// draws from the light slice of the sampling view: of the (up to three) views interpolating wo,
+// the one of largest weight (the held view nearest wo, but near the middle of a triangle of
+// views). A light l of the slice is chosen with probability f_l W_l / sum (f the luminance, W_l
+// the weight of the light triangulation's corners that l is: cos theta x solid angle / 3 of each
+// triangle it is a corner of), then one of its triangles by that triangle's share of W_l, then a
+// point uniform in the triangle's solid angle: triangle t is drawn with probability cos x solid
+// angle x the mean luminance of its three corners / sum, and pdf is that piecewise-constant
+// density, the sample's bit for bit (core/hemisphere_triangulation.h). From a VqBtf whose views
+// share one light list, the choice of l reads precomputed tables, as the rings do: each level-1
+// entry's values weighted by W (the prefix sums of one ring), and with two or three levels each
+// level-2 entry's marginal over its rings (VqBtf::weightedRings), so a draw decodes nothing and
+// builds no table; otherwise (a BtfData, view-dependent lights) the slice's f_l W_l are summed
+// into a CDF, once per texel and view (per-thread cache). sample() interpolates the weight f on
+// the draw's own view stencil and light triangle (what eval locates again). Why triangulations,
+// not rings or a kernel: they work on any directions, need no bandwidth, and interpolate from
+// the fewest measured values.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 
+#include "btf/compress/vq_btf.h"
+#include "btf/core/hemisphere_triangulation.h"
 #include "btf/io/btf_data.h"
 #include "btf/material/material.h"
 
 namespace btf {
 
-class VqBtf;
 class BtfScatteredDirections;
 
 enum class BtfTexelFilter { Bilinear, Nearest };
@@ -72,7 +84,20 @@ class BtfMaterial final : public Material {
 
  private:
   struct LightTables;
-  const LightTables& lightTables(const glm::vec3& wo, glm::vec2 uv) const;
+  // The tables of the light slice of a view at the texel nearest uv (cached per thread).
+  const LightTables& lightTables(int view, glm::vec2 uv) const;
+  // The sum over the triples of weight x value at uv (bilinear or nearest texel).
+  Rgb interpolate(const int* views, const int* lights, const float* weights, int count, glm::vec2 uv) const;
+  // On other sets: a draw from the slice of the view stencil's sampling view, with the triangle
+  // of the light triangulation it lies in.
+  struct ScatteredDraw {
+    glm::vec3 wi;
+    float pdf;
+    int triangle;
+  };
+  std::optional<ScatteredDraw> drawScattered(const HemisphereTriangulation::Stencil& view, glm::vec2 uv, glm::vec2 u) const;
+  // On other sets: the density of a draw in triangle t of the slice's light triangulation.
+  float scatteredDensity(const LightTables& tables, int t) const;
 
   std::shared_ptr<const BtfLookup> btf_;
   const VqBtf* vq_;  // btf_ as a VqBtf, for the sampling fast path; else null
@@ -81,6 +106,9 @@ class BtfMaterial final : public Material {
   int width_, height_;
   int view_rings_;  // rings of views held, from the pole (6 for a full BTF); 0 on other sets
   std::shared_ptr<const BtfScatteredDirections> scattered_;  // on other sets, else null
+  // On other sets from a VqBtf whose views share their lights: its entries weighted by the
+  // lights' triangle weights (VqBtf::weightedRings), else null.
+  std::shared_ptr<const VqBtf::WeightedRings> weighted_rings_;
   std::uint64_t id_;  // for the per-thread cache of the last light slice's tables
 };
 
