@@ -32,7 +32,7 @@ TEST(Cie, TablesMatchTheirPublishedSums) {
 }
 
 TEST(Cie, ProjectionMapsConstantSpectraToGreyAndIsLinear) {
-  const std::vector<float> wl = cieWavelengths();
+  const std::vector<float> wl = bsdfWavelengths();
   const SpectrumToRgb project(wl);
   const Rgb white = project(std::vector<float>(wl.size(), 1.0f));
   EXPECT_NEAR(white.r, 1.0f, 1e-6f);
@@ -59,7 +59,7 @@ TEST(Cie, ProjectionRejectsBadGrids) {
 }
 
 TEST(SigmoidSpectrum, RoundTripsTheSrgbCubeAndValuesAboveOne) {
-  const std::vector<float> wl = cieWavelengths();
+  const std::vector<float> wl = bsdfWavelengths();
   const SpectrumToRgb project(wl);
   // An 11^3 grid of the cube times scales 0.01 to 40 (BRDF table values are unbounded): every
   // colour must come back within 1e-5 of its largest component, and every spectrum must be
@@ -94,7 +94,7 @@ TEST(SigmoidSpectrum, RoundTripsTheSrgbCubeAndValuesAboveOne) {
 }
 
 TEST(SigmoidSpectrum, NegativeComponentsAreTakenAsZero) {
-  const std::vector<float> wl = cieWavelengths();
+  const std::vector<float> wl = bsdfWavelengths();
   const SpectrumToRgb project(wl);
   const SigmoidSpectrum a = fitSigmoidSpectrum(Rgb(0.4f, -0.1f, 0.2f), project, wl);
   const SigmoidSpectrum b = fitSigmoidSpectrum(Rgb(0.4f, 0.0f, 0.2f), project, wl);

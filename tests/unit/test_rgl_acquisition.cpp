@@ -109,8 +109,8 @@ TEST(RglAcquisition, FieldsAreThoseOfTheRglDatabaseFiles) {
   file.require("vndf", D::Float32, {1, 8, 128, 128});
   file.require("luminance", D::Float32, {1, 8, 32, 32});
   file.require("rgb", D::Float32, {1, 8, 3, 32, 32});
-  file.require("wavelengths", D::Float32, {95});
-  file.require("spectra", D::Float32, {1, 8, 95, 32, 32});
+  file.require("wavelengths", D::Float32, {48});
+  file.require("spectra", D::Float32, {1, 8, 48, 32, 32});
   EXPECT_EQ(file.require("jacobian", D::UInt8, {1}).bytes[0], std::byte{1});
   file.require("valid", D::UInt8, {8 * 32 * 32 / 8});
   // From the normal to the horizon, strictly increasing.

@@ -148,10 +148,10 @@ TEST(RglSpectral, WrittenFilesPassEveryLoadersFieldChecks) {
   // The checker itself fails on what a loader refuses.
   btf::TensorFile broken = spectral;
   for (auto& f : broken.fields)
-    if (f.name == "spectra") f.shape[2] = 94;
+    if (f.name == "spectra") f.shape[2] = 47;
   EXPECT_NE(problemsFor(loaders()[0], broken).find("spectra dim 2"), std::string::npos);
-  // The wavelengths: 360 to 830 nm in 5 nm steps, the range pbrt-v4 samples.
-  const auto wl = spectral.require("wavelengths", D::Float32, {95}).toFloats();
+  // The wavelengths: 360 to 830 nm in 10 nm steps, the range pbrt-v4 samples.
+  const auto wl = spectral.require("wavelengths", D::Float32, {48}).toFloats();
   EXPECT_EQ(wl.front(), 360.0f);
   EXPECT_EQ(wl.back(), 830.0f);
 }
@@ -205,13 +205,13 @@ TEST(RglSpectral, ReaderTakesSpectralOnlyFilesAndRefusesMissingTables) {
   std::vector<btf::TensorField> narrow = spectral_only;
   for (auto& f : narrow)
     if (f.name == "wavelengths") {
-      std::vector<double> wl(95);
-      for (int k = 0; k < 95; ++k) wl[k] = 450 + k;
-      f = btf::tensorField("wavelengths", D::Float32, {95}, wl);
+      std::vector<double> wl(48);
+      for (int k = 0; k < 48; ++k) wl[k] = 450 + k;
+      f = btf::tensorField("wavelengths", D::Float32, {48}, wl);
     }
   try {
     btf::RglBrdf m(btf::inMemoryTensorFile(narrow, "narrow.bsdf"));
-    FAIL() << "a spectrum of 450-544 nm accepted";
+    FAIL() << "a spectrum of 450-497 nm accepted";
   } catch (const btf::FileError& e) {
     EXPECT_NE(std::string(e.what()).find("field 'wavelengths'"), std::string::npos) << e.what();
   }

@@ -63,9 +63,9 @@ Rgb SpectrumToRgb::operator()(std::span<const float> values) const {
   return strided(values.data(), 1);
 }
 
-std::vector<float> cieWavelengths() {
-  std::vector<float> wl(kCieCount);
-  for (int j = 0; j < kCieCount; ++j) wl[std::size_t(j)] = float(kCieFirstNm + kCieStepNm * j);
+std::vector<float> bsdfWavelengths() {
+  std::vector<float> wl;
+  for (int nm = kCieFirstNm; nm <= int(kCieLastNm); nm += 10) wl.push_back(float(nm));
   return wl;
 }
 

@@ -366,7 +366,7 @@ std::vector<TensorField> acquireRglFields(const Material& material, const RglAcq
   fields.push_back(tensorField("luminance", TensorDtype::Float32, {1, u(nt), u(r), u(r)}, luminance));
   fields.push_back(tensorField("rgb", TensorDtype::Float32, {1, u(nt), 3, u(r), u(r)}, rgb));
   if (o.spectral) {
-    const std::vector<float> wavelengths = cieWavelengths();
+    const std::vector<float> wavelengths = bsdfWavelengths();
     const auto nw = std::uint64_t(wavelengths.size());
     fields.push_back(tensorField("wavelengths", TensorDtype::Float32, {nw}, doubles(wavelengths)));
     fields.push_back(tensorField("spectra", TensorDtype::Float32, {1, u(nt), nw, u(r), u(r)},

@@ -17,10 +17,13 @@ struct RglOutputOptions {
   std::optional<int> theta_i_count, resolution, vndf_resolution, ndf_resolution;
   std::string description;  // empty: names the source
   std::string texel;        // a BTF input: "X,Y" or "mean"
-  bool given() const { return theta_i_count || resolution || vndf_resolution || ndf_resolution || !description.empty(); }
+  bool rgb_only = false;    // no wavelengths/spectra: the file Mitsuba 3's RGB variants load
+  bool given() const {
+    return theta_i_count || resolution || vndf_resolution || ndf_resolution || !description.empty() || rgb_only;
+  }
 };
 
-// --theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description, --texel.
+// --theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description, --texel, --rgb-only.
 void addRglOutputOptions(CLI::App& cmd, RglOutputOptions& options);
 
 // Writes `out` atomically and prints what it holds and what the conversion lost: rel_rmse of

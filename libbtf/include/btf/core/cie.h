@@ -52,8 +52,10 @@ class SpectrumToRgb {
   std::vector<double> weights_;  // per wavelength: r, g, b
 };
 
-// The wavelengths spectral .bsdf files are written at: 360 to 830 nm in 5 nm steps (the CIE
-// table's own nodes, the range pbrt-v4 samples wavelengths from).
-std::vector<float> cieWavelengths();
+// The wavelengths spectral .bsdf files are written at: 360 to 830 nm in 10 nm steps (every other
+// node of the CIE table; the range pbrt-v4 samples wavelengths from). The sigmoid spectra are
+// smooth, so 5 nm would double the file for no visible change (the colour round trip is exact
+// either way: SpectrumToRgb interpolates the samples as a renderer does).
+std::vector<float> bsdfWavelengths();
 
 }  // namespace btf

@@ -24,7 +24,7 @@
 //    where f follows the microfacet model; `luminance` holds its luminance, the density that the
 //    sampling warp draws s with.
 // 6. `wavelengths` and `spectra` (unless options.spectral is false): each RGB value of step 5
-//    upsampled to a reflectance spectrum at 360, 365, ..., 830 nm by the sigmoid polynomials of
+//    upsampled to a reflectance spectrum at 360, 370, ..., 830 nm by the sigmoid polynomials of
 //    Jakob & Hanika 2019 with a scale per value (btf/core/rgb_to_spectrum.h): pbrt-v4's
 //    MeasuredBRDF reads only these, Mitsuba 3's spectral variants too, its RGB variants read `rgb`.
 //    Their colour under D65 (btf/core/cie.h) is the RGB value within 1e-5 of its largest channel.
