@@ -92,7 +92,7 @@ void runConvert(const ConvertOptions& o) {
     return writeRglOutput(from, o.in, o.out, o.rgl);
   }
   if (o.rgl.given() || !o.rgl.texel.empty())
-    throw Error("--theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description and --texel apply to an "
+    throw Error("--theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description, --rgb-only and --texel apply to an "
                 "RGL output (OUT ending in .bsdf), not to " + o.out);
   if (isBtf(from)) {
     if (o.tolerance_given) throw Error("--tolerance applies to an .octree output of a BRDF, not to the BTF " + o.in);
