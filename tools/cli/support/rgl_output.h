@@ -1,6 +1,7 @@
 // `btf convert X out.bsdf`: any isotropic material, or one texel (or the mean) of a BTF, written as
-// an RGL measured material by virtual acquisition (btf/material/rgl_acquisition.h), for Mitsuba 3's
-// `measured` plugin and any reader of the RGL database's files.
+// an RGL measured material by virtual acquisition (btf/material/rgl_acquisition.h), for pbrt-v4's
+// and Mitsuba 3's `measured` materials (with spectra) or Mitsuba 3's RGB variants (--rgb-only), and
+// any reader of the RGL database's files.
 #pragma once
 
 #include <optional>
