@@ -1,6 +1,9 @@
 // btf info / eval / convert / plot on the shared RGL measured materials (.bsdf).
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "btf/io/image.h"
@@ -123,6 +126,21 @@ TEST(RglCli, ConvertWritesATableAsAnRglFileThatTheVerbsRead) {
                                      "--resolution", "16", "--description", "gold, 12 angles"});
   ASSERT_EQ(fine.exit_code, 0) << fine.output;
   EXPECT_EQ(parseJsonOutput(runBtf({"info", (dir / "fine.bsdf").string(), "--json"}))["resolution"], 16);
+  // The default file holds spectra (pbrt-v4); --rgb-only leaves them out (Mitsuba 3's RGB variants
+  // refuse a file with 'wavelengths'). Field names are in the header, so the bytes say which.
+  const auto holds = [](const std::filesystem::path& p, const std::string& name) {
+    std::ifstream in(p, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return bytes.find(name) != std::string::npos;
+  };
+  EXPECT_NE(c.output.find("RGB and spectra 360-830 nm"), std::string::npos) << c.output;
+  EXPECT_TRUE(holds(out, "wavelengths") && holds(out, "spectra"));
+  const CommandResult rgb_only = runBtf({"convert", table.string(), (dir / "rgb.bsdf").string(), "--rgb-only"});
+  ASSERT_EQ(rgb_only.exit_code, 0) << rgb_only.output;
+  EXPECT_NE(rgb_only.output.find("RGB only: Mitsuba 3 RGB variants"), std::string::npos) << rgb_only.output;
+  EXPECT_FALSE(holds(dir / "rgb.bsdf", "wavelengths") || holds(dir / "rgb.bsdf", "spectra"));
+  EXPECT_TRUE(holds(dir / "rgb.bsdf", "rgb"));
+  expectFailure(runBtf({"convert", table.string(), (dir / "x.binary").string(), "--rgb-only"}), {"x.binary"});
   const CommandResult again = runBtf({"convert", rglFile("paper_white_rgb").string(), (dir / "paper.bsdf").string()});
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("theta_i     8 values (deg): 0.0 27.7 39.9"), std::string::npos) << again.output;

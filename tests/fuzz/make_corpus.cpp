@@ -137,6 +137,11 @@ void rgl(const fs::path& out) {
   put(out / "written-ggx.bsdf",
       tensorFile(btf::acquireRglFields(btf::Ggx(btf::Rgb(0.1f), btf::Rgb(0.9f, 0.6f, 0.5f), 0.2f, 0.2f), small)));
   put(out / "written-lambert.bsdf", tensorFile(btf::acquireRglFields(btf::Lambert(btf::Rgb(0.7f)), small)));
+  // A spectral file without `rgb` (as the database's *_spec.bsdf): the reader's spectra path.
+  std::vector<btf::TensorField> spectral =
+      btf::acquireRglFields(btf::Ggx(btf::Rgb(0.1f), btf::Rgb(0.9f, 0.6f, 0.5f), 0.2f, 0.2f), small);
+  std::erase_if(spectral, [](const btf::TensorField& f) { return f.name == "rgb"; });
+  put(out / "written-spectral.bsdf", tensorFile(spectral));
 }
 
 void btfz(const fs::path& out) {

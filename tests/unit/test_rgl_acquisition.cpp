@@ -90,14 +90,14 @@ TEST(TensorWriter, RefusesDuplicateNamesValuesThatDoNotFitAndShortData) {
   EXPECT_NE(errorOf([&] { btf::encodeTensorFile({cut}); }).find("holds 11 bytes, not 12"), std::string::npos);
 }
 
-// Names, dtypes, shapes and order as the public loaders check them (Mitsuba 3's measured plugin,
-// pbrt-v4's MeasuredBxDF apart from its spectral fields, the RGL database's own files).
+// Names, dtypes, shapes and order as the RGL database's own files hold them (test_rgl_spectral.cpp
+// checks them against each public loader's list).
 TEST(RglAcquisition, FieldsAreThoseOfTheRglDatabaseFiles) {
   const std::vector<btf::TensorField> fields = btf::acquireRglFields(*ggx(0.3f));
   std::vector<std::string> names;
   for (const auto& f : fields) names.push_back(f.name);
   EXPECT_EQ(names, (std::vector<std::string>{"version", "description", "phi_i", "theta_i", "sigma", "ndf", "vndf",
-                                             "luminance", "rgb", "jacobian", "valid"}));
+                                             "luminance", "rgb", "wavelengths", "spectra", "jacobian", "valid"}));
   const btf::TensorFile file = btf::inMemoryTensorFile(fields, "g.bsdf");
   using D = btf::TensorDtype;
   EXPECT_EQ(file.require("version", D::UInt32, {2}).toFloats(), (std::vector<float>{1, 0}));
@@ -109,6 +109,8 @@ TEST(RglAcquisition, FieldsAreThoseOfTheRglDatabaseFiles) {
   file.require("vndf", D::Float32, {1, 8, 128, 128});
   file.require("luminance", D::Float32, {1, 8, 32, 32});
   file.require("rgb", D::Float32, {1, 8, 3, 32, 32});
+  file.require("wavelengths", D::Float32, {48});
+  file.require("spectra", D::Float32, {1, 8, 48, 32, 32});
   EXPECT_EQ(file.require("jacobian", D::UInt8, {1}).bytes[0], std::byte{1});
   file.require("valid", D::UInt8, {8 * 32 * 32 / 8});
   // From the normal to the horizon, strictly increasing.

@@ -56,7 +56,8 @@ KNOWN = {
     "rgl_writer.csv": (
         "RGL writer: what a .bsdf written by virtual acquisition loses",
         "btf bench rgl-writer",
-        ["material", "bytes", "seconds", "fcos_rel_rmse", "max_albedo_rel_error", "albedo_0", "reference_albedo_0",
+        ["material", "bytes", "seconds", "fcos_rel_rmse", "max_albedo_rel_error", "spectral_albedo_rel_error",
+         "grazing_albedo_rel_error", "albedo_0", "reference_albedo_0",
          "albedo_60", "reference_albedo_60", "albedo_75", "reference_albedo_75", "chi2_p_0", "chi2_p_30", "chi2_p_60",
          "chi2_p_80"],
     ),

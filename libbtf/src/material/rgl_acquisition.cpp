@@ -7,8 +7,10 @@
 #include <span>
 
 #include "btf/core/bilinear_warp2d.h"
+#include "btf/core/cie.h"
 #include "btf/core/error.h"
 #include "btf/core/math.h"
+#include "btf/core/rgb_to_spectrum.h"
 
 namespace btf {
 namespace {
@@ -241,6 +243,22 @@ void extendIntoInvalidNodes(const std::vector<bool>& measured, int r, std::span<
     }
 }
 
+// Step 6: the spectra of the RGB table ([theta_i][channel][node] -> [theta_i][wavelength][node]).
+std::vector<double> upsampledSpectra(const std::vector<double>& rgb, int nt, std::size_t slice,
+                                     const std::vector<float>& wavelengths) {
+  const SpectrumToRgb projection(wavelengths);
+  const std::size_t nw = wavelengths.size();
+  std::vector<double> spectra(std::size_t(nt) * nw * slice);
+  for (int t = 0; t < nt; ++t)
+    for (std::size_t node = 0; node < slice; ++node) {
+      const std::size_t base = std::size_t(t) * 3 * slice + node;
+      const Rgb value(float(rgb[base]), float(rgb[base + slice]), float(rgb[base + 2 * slice]));
+      const SigmoidSpectrum s = fitSigmoidSpectrum(value, projection, wavelengths);
+      for (std::size_t w = 0; w < nw; ++w) spectra[(std::size_t(t) * nw + w) * slice + node] = s(wavelengths[w]);
+    }
+  return spectra;
+}
+
 void checkRange(const char* name, int value, int low, int high) {
   if (value < low || value > high)
     throw Error(std::string(name) + " must be in [" + std::to_string(low) + ", " + std::to_string(high) + "], not " +
@@ -347,6 +365,13 @@ std::vector<TensorField> acquireRglFields(const Material& material, const RglAcq
                                doubles(pz.vndf.values)));
   fields.push_back(tensorField("luminance", TensorDtype::Float32, {1, u(nt), u(r), u(r)}, luminance));
   fields.push_back(tensorField("rgb", TensorDtype::Float32, {1, u(nt), 3, u(r), u(r)}, rgb));
+  if (o.spectral) {
+    const std::vector<float> wavelengths = bsdfWavelengths();
+    const auto nw = std::uint64_t(wavelengths.size());
+    fields.push_back(tensorField("wavelengths", TensorDtype::Float32, {nw}, doubles(wavelengths)));
+    fields.push_back(tensorField("spectra", TensorDtype::Float32, {1, u(nt), nw, u(r), u(r)},
+                                 upsampledSpectra(rgb, nt, slice, wavelengths)));
+  }
   fields.push_back(tensorField("jacobian", TensorDtype::UInt8, {1}, jacobian));
   fields.push_back(tensorField("valid", TensorDtype::UInt8, {valid_bytes.size()}, valid_bytes));
   return fields;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <span>
 
+#include "btf/core/cie.h"
 #include "btf/core/error.h"
 #include "btf/core/fast_atan.h"
 #include "btf/core/math.h"
@@ -52,15 +53,41 @@ std::vector<float> floatsOf(const TensorFile& file, const TensorField& field) {
   return values;
 }
 
+// The `spectra` table [1, theta, wavelength, R, R] as linear sRGB [theta, channel, R, R].
+std::vector<float> spectraAsRgb(const TensorFile& file, std::int64_t n_theta, std::int64_t res_y, std::int64_t res_x) {
+  const TensorField& wavelengths = file.require("wavelengths", TensorDtype::Float32, {-1});
+  const auto nw = static_cast<std::int64_t>(wavelengths.shape[0]);
+  const TensorField& spectra = file.require("spectra", TensorDtype::Float32, {1, n_theta, nw, res_y, res_x});
+  std::vector<float> wl = floatsOf(file, wavelengths);
+  std::optional<SpectrumToRgb> projection;
+  try {
+    projection.emplace(wl);
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(file.path, std::string("field 'wavelengths': ") + e.what());
+  }
+  const std::vector<float> values = floatsOf(file, spectra);
+  const std::size_t slice = std::size_t(res_y) * std::size_t(res_x), nws = std::size_t(nw);
+  std::vector<float> rgb(std::size_t(n_theta) * 3 * slice);
+  for (std::size_t t = 0; t < std::size_t(n_theta); ++t)
+    for (std::size_t node = 0; node < slice; ++node) {
+      const Rgb c = projection->strided(&values[t * nws * slice + node], slice);
+      for (std::size_t ch = 0; ch < 3; ++ch) rgb[(t * 3 + ch) * slice + node] = c[int(ch)];
+    }
+  return rgb;
+}
+
 }  // namespace
 
-RglBrdf::RglBrdf(const std::filesystem::path& path) : RglBrdf(readTensorFile(path)) {}
+RglBrdf::RglBrdf(const std::filesystem::path& path, RglChannels channels) : RglBrdf(readTensorFile(path), channels) {}
 
-RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
+RglBrdf::RglBrdf(const TensorFile& file, RglChannels channels) : stem_(file.path.stem().string()) {
   const auto& path = file.path;
-  if (!file.find("rgb") && file.find("spectra"))
-    throw FileError(path, "spectral RGL file (field 'spectra'): only RGB files (field 'rgb', the *_rgb.bsdf "
-                          "downloads) are supported");
+  const bool from_spectra = channels == RglChannels::Spectra || !file.find("rgb");
+  if (from_spectra && !file.find("spectra"))
+    throw FileError(path, channels == RglChannels::Spectra ? "has no field 'spectra' (an RGB-only file)"
+                                                           : "has neither field 'rgb' nor field 'spectra'");
   const TensorField& phi_i = file.require("phi_i", TensorDtype::Float32, {-1});
   if (phi_i.shape[0] != 1)
     throw FileError(path, "anisotropic RGL file (phi_i has " + std::to_string(phi_i.shape[0]) +
@@ -78,7 +105,7 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
   const TensorField& vndf = file.require("vndf", TensorDtype::Float32, {1, n_theta, -1, -1});
   const TensorField& luminance = file.require("luminance", TensorDtype::Float32, {1, n_theta, -1, -1});
   const auto res_y = static_cast<std::int64_t>(luminance.shape[2]), res_x = static_cast<std::int64_t>(luminance.shape[3]);
-  const TensorField& rgb = file.require("rgb", TensorDtype::Float32, {1, n_theta, 3, res_y, res_x});
+  const TensorField* rgb = from_spectra ? nullptr : &file.require("rgb", TensorDtype::Float32, {1, n_theta, 3, res_y, res_x});
   const TensorField& jacobian = file.require("jacobian", TensorDtype::UInt8, {1});
   jacobian_ = std::to_integer<int>(jacobian.bytes[0]) != 0;
   if (const TensorField* d = file.find("description")) {
@@ -96,15 +123,19 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
 
   // Build each grid; a construction error names the field (slice k is theta_i[k], times 3 + channel
   // for rgb).
-  auto build = [&](const char* name, const TensorField& field, int w, int h, std::vector<std::vector<float>> params,
-                   BilinearWarp2D::Mode mode) {
+  auto buildFrom = [&](const char* name, const TensorField& field, std::vector<float> values, int w, int h,
+                       std::vector<std::vector<float>> params, BilinearWarp2D::Mode mode) {
     try {
-      return BilinearWarp2D(w, h, floatsOf(file, field), std::move(params), mode);
+      return BilinearWarp2D(w, h, std::move(values), std::move(params), mode);
     } catch (const FileError&) {
       throw;
     } catch (const Error& e) {
       throw FileError(path, "field '" + std::string(name) + "' " + field.shapeString() + ": " + e.what());
     }
+  };
+  auto build = [&](const char* name, const TensorField& field, int w, int h, std::vector<std::vector<float>> params,
+                   BilinearWarp2D::Mode mode) {
+    return buildFrom(name, field, floatsOf(file, field), w, h, std::move(params), mode);
   };
   using Mode = BilinearWarp2D::Mode;
   auto dim = [](const TensorField& f, std::size_t i) { return static_cast<int>(f.shape[i]); };
@@ -112,7 +143,12 @@ RglBrdf::RglBrdf(const TensorFile& file) : stem_(file.path.stem().string()) {
   sigma_ = build("sigma", sigma, dim(sigma, 1), dim(sigma, 0), {}, Mode::Interpolant);
   vndf_ = build("vndf", vndf, dim(vndf, 3), dim(vndf, 2), {theta_o_}, Mode::Distribution);
   luminance_ = build("luminance", luminance, dim(luminance, 3), dim(luminance, 2), {theta_o_}, Mode::Distribution);
-  rgb_ = build("rgb", rgb, dim(rgb, 4), dim(rgb, 3), {theta_o_, {0.0f, 1.0f, 2.0f}}, Mode::Interpolant);
+  std::vector<std::vector<float>> rgb_params = {theta_o_, {0.0f, 1.0f, 2.0f}};
+  if (rgb)
+    rgb_ = build("rgb", *rgb, int(res_x), int(res_y), std::move(rgb_params), Mode::Interpolant);
+  else
+    rgb_ = buildFrom("spectra", *file.find("spectra"), spectraAsRgb(file, n_theta, res_y, res_x), int(res_x), int(res_y),
+                     std::move(rgb_params), Mode::Interpolant);
 }
 
 RglBrdf::Outgoing RglBrdf::outgoing(const glm::vec3& wo) const {

@@ -59,13 +59,16 @@ RglAcquisitionOptions acquisitionOptions(const RglOutputOptions& o, const Materi
   a.resolution = o.resolution.value_or(a.resolution);
   a.vndf_resolution = o.vndf_resolution.value_or(a.vndf_resolution);
   a.ndf_resolution = o.ndf_resolution.value_or(a.ndf_resolution);
+  a.spectral = !o.rgb_only;
   a.description = o.description.empty() ? "virtual acquisition (libbtf) of " + description : o.description;
   return a;
 }
 
 void printWritten(const std::string& out, const RglAcquisitionOptions& a, const std::vector<float>& theta_i,
                   std::uintmax_t bytes, const MaterialDifference& d, std::uint32_t pairs) {
-  std::printf("wrote %s (RGL measured material, tensor_file 1.0, isotropic RGB)\n", out.c_str());
+  std::printf("wrote %s (RGL measured material, tensor_file 1.0, isotropic, %s)\n", out.c_str(),
+              a.spectral ? "RGB and spectra 360-830 nm: pbrt-v4, Mitsuba 3 spectral variants"
+                         : "RGB only: Mitsuba 3 RGB variants");
   std::printf("  description %s\n", a.description.c_str());
   std::printf("  theta_i     %d values (deg):", a.theta_i_count);
   for (const float t : theta_i) std::printf(" %.1f", double(t) * 180.0 / 3.14159265358979);
@@ -96,6 +99,10 @@ void addRglOutputOptions(CLI::App& cmd, RglOutputOptions& o) {
   cmd.add_option("--ndf-resolution", o.ndf_resolution, "NDF and projected-area nodes over theta (default 128)")->group(group);
   cmd.add_option("--description", o.description, "The file's description (default: names the source)")->group(group);
   cmd.add_option("--texel", o.texel, "A BTF input: the texel X,Y, or mean (the mean over all texels)")->group(group);
+  cmd.add_flag("--rgb-only", o.rgb_only,
+               "Write no 'wavelengths'/'spectra': the file for Mitsuba 3's RGB variants, which refuse a file with "
+               "'wavelengths' (default: RGB and spectra, for pbrt-v4 and Mitsuba 3's spectral variants)")
+      ->group(group);
 }
 
 void writeRglOutput(const IdentifiedMaterial& from, const std::string& in, const std::string& out,

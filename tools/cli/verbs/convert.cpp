@@ -92,7 +92,7 @@ void runConvert(const ConvertOptions& o) {
     return writeRglOutput(from, o.in, o.out, o.rgl);
   }
   if (o.rgl.given() || !o.rgl.texel.empty())
-    throw Error("--theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description and --texel apply to an "
+    throw Error("--theta-i, --resolution, --vndf-resolution, --ndf-resolution, --description, --rgb-only and --texel apply to an "
                 "RGL output (OUT ending in .bsdf), not to " + o.out);
   if (isBtf(from)) {
     if (o.tolerance_given) throw Error("--tolerance applies to an .octree output of a BRDF, not to the BTF " + o.in);
@@ -122,7 +122,7 @@ void registerConvertCommand(CLI::App& app) {
       "Convert between MERL-layout tables: MERL .binary <-> EXR stack (.exr: 90 parts, one per theta_h index, each 180x90 RGB "
       "float of phi_d x theta_d with f in 1/sr; unmeasured samples stay negative), -> octree (.octree, lossless at tolerance "
       "0), and from an RGL .bsdf or a btf fit .json by tabulating it. Any isotropic material (or a BTF texel with --texel) "
-      "-> an RGL .bsdf by virtual acquisition (Dupuy & Jakob 2018), for Mitsuba 3's measured plugin. A BTF (image folder, Bonn .btf, .btfz) converts to "
+      "-> an RGL .bsdf by virtual acquisition (Dupuy & Jakob 2018), with RGB and spectra for pbrt-v4 and Mitsuba 3's measured plugins (--rgb-only: for Mitsuba 3's RGB variants). A BTF (image folder, Bonn .btf, .btfz) converts to "
       "an image folder or a Bonn .btf file (OUT ending in .btf: DFMF, FMF or PVF by a truncated SVD)");
   auto o = std::make_shared<ConvertOptions>();
   cmd->add_option("IN", o->in,

@@ -23,7 +23,12 @@
 //    by the VNDF density D(m) / (4 sigma(wi)) (the file's `jacobian` flag is 1), which is smooth
 //    where f follows the microfacet model; `luminance` holds its luminance, the density that the
 //    sampling warp draws s with.
-// 6. `valid`: one bit per sample (theta_i, row, column; most significant bit first), set where the
+// 6. `wavelengths` and `spectra` (unless options.spectral is false): each RGB value of step 5
+//    upsampled to a reflectance spectrum at 360, 370, ..., 830 nm by the sigmoid polynomials of
+//    Jakob & Hanika 2019 with a scale per value (btf/core/rgb_to_spectrum.h): pbrt-v4's
+//    MeasuredBRDF reads only these, Mitsuba 3's spectral variants too, its RGB variants read `rgb`.
+//    Their colour under D65 (btf/core/cie.h) is the RGB value within 1e-5 of its largest channel.
+// 7. `valid`: one bit per sample (theta_i, row, column; most significant bit first), set where the
 //    reflected direction leaves the upper hemisphere and nothing was measured, as in the database's
 //    files. No public loader reads it.
 //
@@ -46,6 +51,7 @@ struct RglAcquisitionOptions {
   int vndf_resolution = 128;  // nodes per side of each VNDF warp
   int resolution = 32;        // nodes per side of each luminance and RGB table
   std::string description;    // the file's `description`; empty: "virtual acquisition of <name>"
+  bool spectral = true;       // write `wavelengths` and `spectra` (step 6) besides `rgb`
   // Steps 1 to 4 taken from this RGL file instead (its theta_i, ndf, sigma and vndf; the options'
   // resolutions of those are then unused): an RGL source re-measured on its own parameterization
   // keeps its tables at the nodes, up to float rounding.
@@ -57,7 +63,7 @@ struct RglAcquisitionOptions {
 void checkRglAcquisitionOptions(const RglAcquisitionOptions& options);
 
 // The fields of the .bsdf file, in the order of the RGL database's files: version, description,
-// phi_i, theta_i, sigma, ndf, vndf, luminance, rgb, jacobian, valid. Throws btf::Error for an
+// phi_i, theta_i, sigma, ndf, vndf, luminance, rgb, wavelengths, spectra, jacobian, valid. Throws btf::Error for an
 // anisotropic material (the file would hold its phi_h = 0 slice), options out of range, and a
 // material whose eval returns a NaN, infinite or negative value (the message names the directions).
 std::vector<TensorField> acquireRglFields(const Material& material, const RglAcquisitionOptions& options = {});

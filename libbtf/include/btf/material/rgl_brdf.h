@@ -29,9 +29,14 @@
 // Convention: in the reference loader the fixed direction is called wi and the sampled one wo; in
 // libbtf sample() draws wi given wo, so our wo plays the file's "incident" role throughout.
 //
-// Supported: isotropic RGB files (phi_i has one value). Anisotropic files (several phi_i) and
-// spectral files (`spectra`/`wavelengths` instead of `rgb`) are rejected with a FileError that says
-// which. Nothing is allocated per eval/sample/pdf call; all calls are thread-safe.
+// Colour: the `rgb` table, or, in a file without one (the RGL database's spectral downloads) or
+// when asked for (RglChannels::Spectra), the `spectra` table (per theta_o, wavelength and node)
+// turned into linear sRGB per node under D65 by the CIE 1931 observer (btf/core/cie.h). That is
+// linear, so interpolating the converted nodes is what integrating a spectral renderer's per-
+// wavelength lookups gives, except where a file holds negative spectral values: pbrt-v4 clips each
+// wavelength before integrating, this reader the interpolated RGB.
+// Supported: isotropic files (phi_i has one value). Anisotropic files (several phi_i) are rejected
+// with a FileError that says so. Nothing is allocated per eval/sample/pdf call; all calls are thread-safe.
 #pragma once
 
 #include <filesystem>
@@ -47,11 +52,17 @@
 
 namespace btf {
 
+// Which colour table of the file RglBrdf reads.
+enum class RglChannels {
+  Rgb,      // `rgb`, or `spectra` where the file has no `rgb`
+  Spectra,  // `spectra` (a file without it is refused)
+};
+
 class RglBrdf final : public Material {
  public:
   // Throws btf::FileError for unreadable, corrupt or unsupported files.
-  explicit RglBrdf(const std::filesystem::path& path);
-  explicit RglBrdf(const TensorFile& file);
+  explicit RglBrdf(const std::filesystem::path& path, RglChannels channels = RglChannels::Rgb);
+  explicit RglBrdf(const TensorFile& file, RglChannels channels = RglChannels::Rgb);
 
   Rgb eval(const glm::vec3& wi, const glm::vec3& wo, glm::vec2 uv = {}) const override;
   std::optional<BsdfSample> sample(const glm::vec3& wo, glm::vec2 uv, glm::vec2 u) const override;
