@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "btf/compress/octree_table.h"
+#include "btf/compress/factor_btf.h"
 #include "btf/compress/vq_btf.h"
 #include "btf/compress/vq_database.h"
 #include "btf/core/btf_directions.h"
@@ -196,6 +197,14 @@ void btfz(const fs::path& out) {
   options.levels = 1;
   btf::compressVq(makeBtf(12, 12, btf::BtfViewSet({0}), "basis"), options).write(scratch);
   put(out / "basis-12x12.btfz", bytesOf(scratch));
+  // The factor form in both colour models (compress/factor_btf.h).
+  for (const btf::FactorColorModel model : {btf::FactorColorModel::Linear, btf::FactorColorModel::LogLuminance}) {
+    btf::FactorOptions factor;
+    factor.epsilon = 0.05f;
+    factor.color_model = model;
+    btf::compressFactor(makeBtf(3, 2, btf::BtfViewSet::upToTheta(30.0f), "factor"), factor).write(scratch);
+    put(out / ("factor-" + btf::factorColorModelName(model) + "-3x2.btfz"), bytesOf(scratch));
+  }
   fs::remove(scratch);
 }
 
