@@ -501,5 +501,26 @@ TEST(AnalyticFit, MirrorLikeTableNeverFitsSilentlyDegenerate) {
   EXPECT_FALSE(isDegenerateFit(fit.report)) << fit.report.fallback;
 }
 
+// A table no half-vector lobe can follow (a Lafortune retroreflector, its lobe about wi = wo):
+// ABC alone is degenerate, the default fits SGD too and says so, keeps the closer fit, and a kept
+// fit that is still degenerate carries its warnings: never a silent degenerate fit.
+TEST(AnalyticFit, DefaultFallsBackAndWarnsWhereAbcDegenerates) {
+  const MerlTable table = tabulate(Lafortune(Rgb(0.05f), {LafortuneLobe{Rgb(0.8f), glm::vec3(1.0f), 8.0f}}));
+  AnalyticFitOptions abc;
+  abc.starts = 2;
+  abc.fallback.reset();
+  const AnalyticFit alone = fitAnalytic(table, abc);
+  ASSERT_TRUE(isDegenerateFit(alone.report)) << alone.report.rel_rmse;
+  EXPECT_FALSE(alone.report.warnings.empty());
+  EXPECT_TRUE(alone.report.fallback.empty());
+  AnalyticFitOptions defaults;
+  defaults.starts = 2;
+  const AnalyticFit fit = fitAnalytic(table, defaults);
+  EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
+  EXPECT_THAT(fit.report.fallback, HasSubstr("sgd fitted too"));
+  EXPECT_LE(fit.report.rel_rmse, alone.report.rel_rmse);
+  if (isDegenerateFit(fit.report)) EXPECT_FALSE(fit.report.warnings.empty());
+}
+
 }  // namespace
 }  // namespace btf

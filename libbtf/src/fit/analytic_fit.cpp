@@ -421,7 +421,8 @@ void fitAbc(const SampleSet& set, const AnalyticFitOptions& options, AnalyticPar
     starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, log_a, log_a, log_a, logSpread(50.0, 1e6, k, options.starts), 1.0, 1.5});
   }
   std::vector<Bound> bounds(3, Bound{0.0, 1.0});
-  for (const char* a : {"A (red)", "A (green)", "A (blue)"}) bounds.push_back({std::log(1e-6), std::log(1e6), a, true});
+  // A at its lower end is no lobe in that channel (a matte material's answer), not checked.
+  for (const char* a : {"A (red)", "A (green)", "A (blue)"}) bounds.push_back({std::log(1e-6), std::log(1e6), a, true, false, true});
   bounds.push_back({std::log(1e-3), std::log(1e8), "B", true});
   bounds.push_back({0.01, 100.0, "C"});
   bounds.push_back({1.01, 10.0, "ior"});
@@ -450,7 +451,8 @@ void fitSgd(const SampleSet& set, const AnalyticFitOptions& options, AnalyticPar
                       logSpread(1e-3, 0.3, k, options.starts), 0.45, 0.07, 0.0, 3.0, 1.6});
   }
   std::vector<Bound> bounds(3, Bound{0.0, 1.0});
-  for (const char* r : {"rho_s (red)", "rho_s (green)", "rho_s (blue)"}) bounds.push_back({std::log(1e-8), std::log(1e5), r, true});
+  for (const char* r : {"rho_s (red)", "rho_s (green)", "rho_s (blue)"})  // as ABC's A
+    bounds.push_back({std::log(1e-8), std::log(1e5), r, true, false, true});
   bounds.push_back({std::log(1e-5), std::log(2.0), "alpha", true});
   bounds.push_back({0.0, 2.0, "p"});
   bounds.push_back({0.0, 10.0, "f0", false, false, true});    // f0 0: no Fresnel rise of its own

@@ -165,7 +165,8 @@ struct AnalyticFitReport {
   double energy_weight = 0;           // the energy term's weight of the fit kept (tables; 0: none)
   // The fitted parameters that ended at a bound of the search, one line each ("B 1e+08, its upper
   // bound"). Checked: the shape parameters and ABC's and SGD's lobe scales, at the ends that are
-  // limits of the search; not the albedos at 0 or 1, nor SGD's lambda at 0 (no shadowing), which
+  // limits of the search; not the albedos at 0 or 1, nor ABC's A or SGD's rho_s at their lower ends (no lobe in that
+  // channel), nor SGD's f0 or lambda at 0 (no Fresnel rise, no shadowing), which
   // are the model's own limits and a material may reach them.
   std::vector<std::string> at_bound;
   std::vector<std::string> warnings;  // fitWarnings of this report
