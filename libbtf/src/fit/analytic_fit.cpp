@@ -749,7 +749,10 @@ std::string degeneracyText(const AnalyticFitReport& r) {
 AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
   checkOptions(options);
   AnalyticFit fit = fitTableFamily(table, options);
-  if (!options.fallback || *options.fallback == options.family || !isDegenerateFit(fit.report)) return fit;
+  // The fallback is the default fit's, of ABC fits only: a fit of another family asked for is that family's.
+  if (!options.fallback || options.family != ModelFamily::Abc || *options.fallback == options.family ||
+      !isDegenerateFit(fit.report))
+    return fit;
   AnalyticFitOptions other = options;
   other.family = *options.fallback;
   other.lobes = 1;

@@ -99,12 +99,12 @@ struct AnalyticFitOptions {
   int max_iterations = 100;  // per start
   FitObjective objective = FitObjective::Linear;
   double energy_weight = 1.0;  // the energy term's weight (above); 0 leaves it out
-  // Tables: where the fit of `family` is degenerate (isDegenerateFit: a parameter at a bound, or
-  // rel_rmse above kFitRelRmseLimit, as ABC's on mirror-like tables, whose lobe it gives up to keep
-  // the energy), this family is fitted too and the fit with the lower rel_rmse kept
+  // Tables, ABC fits (the default family; other families ignore it): where the fit is degenerate
+  // (isDegenerateFit: a parameter at a bound, or rel_rmse above kFitRelRmseLimit, as ABC's on
+  // mirror-like tables, whose lobe it gives up to keep the energy), this family is fitted too and the fit with the lower rel_rmse kept
   // (AnalyticFitReport::fallback says so). SGD: its lobe follows near-mirror peaks that ABC's
-  // cannot, at about 3x ABC's time, paid only where ABC degenerates. nullopt: the family alone,
-  // as `btf fit --model M` asks.
+  // cannot, at about 3x ABC's time, paid only where ABC degenerates. nullopt: ABC alone, as
+  // `btf fit --model abc` asks.
   std::optional<ModelFamily> fallback = ModelFamily::Sgd;
 };
 
