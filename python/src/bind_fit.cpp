@@ -4,6 +4,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -40,10 +41,13 @@ py::dict fitFileDict(const PyFit& self) {
   return py::module_::import("json").attr("loads")(text.str());
 }
 
-PyFit fitTable(const py::handle& data, const std::string& model, int lobes, bool per_channel, int starts,
+PyFit fitTable(const py::handle& data, const std::optional<std::string>& model, int lobes, bool per_channel, int starts,
                int max_iterations, const std::string& objective, double energy_weight) {
   AnalyticFitOptions options;
-  options.family = parseModelFamily(model, kFittableFamilies);
+  if (model) {  // a model named is fitted alone, as `btf fit --model M`
+    options.family = parseModelFamily(*model, kFittableFamilies);
+    options.fallback.reset();
+  }
   options.lobes = lobes;
   options.per_channel = per_channel;
   options.starts = starts;
@@ -99,6 +103,7 @@ void bindFit(py::module_& m) {
       .def_property_readonly("rel_rmse", [](const PyFit& f) { return f.fit.report.rel_rmse; })
       .def_property_readonly("albedo", [](const PyFit& f) { return albedoChecks(f.fit.report); })
       .def_property_readonly("warnings", [](const PyFit& f) { return f.fit.report.warnings; })
+      .def_property_readonly("fallback", [](const PyFit& f) { return f.fit.report.fallback; })
       .def_property_readonly("converged", [](const PyFit& f) { return f.fit.report.converged; })
       .def_property_readonly("iterations", [](const PyFit& f) { return f.fit.report.iterations; })
       .def_property_readonly("cost", [](const PyFit& f) { return f.fit.report.cost; })
@@ -117,19 +122,20 @@ void bindFit(py::module_& m) {
       });
 
   const AnalyticFitOptions defaults;  // the library's default fit, as `btf fit`'s
-  m.def("fit", &fitTable, py::arg("data"), py::arg("model") = std::string(modelFamilyName(defaults.family)),
+  m.def("fit", &fitTable, py::arg("data"), py::arg("model") = py::none(),
         py::arg("lobes") = defaults.lobes, py::arg("per_channel") = defaults.per_channel, py::arg("starts") = defaults.starts,
         py::arg("max_iterations") = defaults.max_iterations,
         py::arg("objective") = std::string(fitObjectiveName(defaults.objective)),
         py::arg("energy_weight") = defaults.energy_weight,
-        R"doc(fit(data, model='abc', lobes=1, per_channel=False, starts=6, max_iterations=100,
+        R"doc(fit(data, model=None, lobes=1, per_channel=False, starts=6, max_iterations=100,
     objective='linear', energy_weight=1.0) -> FitResult
 
 Fits an analytic model to an isotropic BRDF table with Ceres, as `btf fit` (the defaults are its
 default fit).
   data           a path or spec opened as a MERL-layout table (a MERL .binary as stored, an
                  RGL file or model tabulated), or a btf.Material (tabulated first)
-  model          a fittable family: abc, sgd, ggx, ggx2, ward, lafortune
+  model          a fittable family: abc, sgd, ggx, ggx2, ward, lafortune; None: the default fit
+                 (abc, and sgd too where abc's fit is degenerate; FitResult.fallback says so)
   lobes          lafortune: 1 to 3;  per_channel: each channel its own lobe shapes
   starts         initial guesses screened;  max_iterations: per start
   objective      'linear' (the rel_rmse measure itself) or 'log' (robust, log-compressed)

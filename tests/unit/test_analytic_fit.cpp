@@ -369,8 +369,22 @@ TEST(AnalyticFit, WarningsNameWhatIsWrong) {
   const std::vector<std::string> w = fitWarnings(r);
   ASSERT_EQ(w.size(), 3u);
   EXPECT_THAT(w[0], HasSubstr("did not converge"));
-  EXPECT_THAT(w[1], HasSubstr("rel_rmse 4 is above 1"));
+  EXPECT_THAT(w[1], HasSubstr("rel_rmse 4 is above 0.5"));
   EXPECT_THAT(w[2], HasSubstr("albedo at theta_o 60 deg is 1.2000, the data's 0.5000 (+140%"));
+  // A fit explaining less than half of the signal warns, and so does a parameter at a bound.
+  AnalyticFitReport half;
+  half.converged = true;
+  half.rel_rmse = 0.51;
+  EXPECT_TRUE(isDegenerateFit(half));
+  ASSERT_EQ(fitWarnings(half).size(), 1u);
+  EXPECT_THAT(fitWarnings(half)[0], HasSubstr("rel_rmse 0.51 is above 0.5"));
+  half.rel_rmse = 0.49;
+  EXPECT_FALSE(isDegenerateFit(half));
+  EXPECT_TRUE(fitWarnings(half).empty());
+  half.at_bound = {"B 1e+08, its upper bound"};
+  EXPECT_TRUE(isDegenerateFit(half));
+  ASSERT_EQ(fitWarnings(half).size(), 1u);
+  EXPECT_THAT(fitWarnings(half)[0], HasSubstr("degenerate fit: B 1e+08, its upper bound"));
 }
 
 TEST(AnalyticFit, BadOptionsAndEmptyTablesAreErrors) {
@@ -461,6 +475,51 @@ TEST(AnalyticFitFile, ErrorsNameTheFileAndTheKey) {
   expectError(head + R"("model": "lafortune", "parameters": {"diffuse": [0.1, 0.1, 0.1],
               "lobes": [{"rho": [0.1, 0.1, 0.1], "c": [1, 1, 1e400], "exponent": 2}]}})", "malformed JSON");
   EXPECT_THROW((void)readFitFile(dir / "missing.json"), FileError);
+}
+
+// A near-mirror (GGX, alpha 0.003: its peak within the first few theta_h cells): a fit that gives
+// up the lobe must say so, and the default fit must not end degenerate without saying so. ABC
+// alone either follows the peak (rel_rmse <= 0.5, no parameter at a bound) or warns naming why;
+// the default (ABC with its SGD fallback) ends with a fit that is not degenerate, or, where SGD
+// degenerates too, with warnings and its fallback line.
+TEST(AnalyticFit, MirrorLikeTableNeverFitsSilentlyDegenerate) {
+  const MerlTable table = tabulate(Ggx(Rgb(0.0f), Rgb(0.55f, 0.56f, 0.55f), 0.003f, 0.003f));
+  AnalyticFitOptions abc;
+  abc.starts = 2;
+  abc.fallback.reset();
+  const AnalyticFit alone = fitAnalytic(table, abc);
+  if (isDegenerateFit(alone.report)) EXPECT_FALSE(alone.report.warnings.empty());
+  AnalyticFitOptions defaults;
+  defaults.starts = 2;
+  const AnalyticFit fit = fitAnalytic(table, defaults);
+  std::printf("abc alone: rel_rmse %.4f, at_bound %zu; default %s rel_rmse %.4f, %s\n", alone.report.rel_rmse,
+              alone.report.at_bound.size(), modelFamilyName(fit.parameters.family), fit.report.rel_rmse, fit.report.fallback.c_str());
+  for (const std::string& w : alone.report.warnings) std::printf("  abc warning: %s\n", w.c_str());
+  for (const std::string& w : fit.report.warnings) std::printf("  default warning: %s\n", w.c_str());
+  if (isDegenerateFit(alone.report)) EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
+  EXPECT_LE(fit.report.rel_rmse, alone.report.rel_rmse);
+  EXPECT_FALSE(isDegenerateFit(fit.report)) << fit.report.fallback;
+}
+
+// A table no half-vector lobe can follow (a Lafortune retroreflector, its lobe about wi = wo):
+// ABC alone is degenerate, the default fits SGD too and says so, keeps the closer fit, and a kept
+// fit that is still degenerate carries its warnings: never a silent degenerate fit.
+TEST(AnalyticFit, DefaultFallsBackAndWarnsWhereAbcDegenerates) {
+  const MerlTable table = tabulate(Lafortune(Rgb(0.05f), {LafortuneLobe{Rgb(0.8f), glm::vec3(1.0f), 8.0f}}));
+  AnalyticFitOptions abc;
+  abc.starts = 2;
+  abc.fallback.reset();
+  const AnalyticFit alone = fitAnalytic(table, abc);
+  ASSERT_TRUE(isDegenerateFit(alone.report)) << alone.report.rel_rmse;
+  EXPECT_FALSE(alone.report.warnings.empty());
+  EXPECT_TRUE(alone.report.fallback.empty());
+  AnalyticFitOptions defaults;
+  defaults.starts = 2;
+  const AnalyticFit fit = fitAnalytic(table, defaults);
+  EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
+  EXPECT_THAT(fit.report.fallback, HasSubstr("sgd fitted too"));
+  EXPECT_LE(fit.report.rel_rmse, alone.report.rel_rmse);
+  if (isDegenerateFit(fit.report)) EXPECT_FALSE(fit.report.warnings.empty());
 }
 
 }  // namespace

@@ -28,7 +28,10 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <optional>
 #include <vector>
+
+#include <tbb/global_control.h>
 
 #include "bench_fits.h"
 #include "btf/core/error.h"
@@ -59,6 +62,7 @@ struct Args {
   std::string fits_dir;
   std::vector<std::string> tables;  // files or folders of measured-style tables; empty: the published fits' tables
   int starts = 6;
+  int threads = 0;  // 0: all cores; 1 measures the time goal of one core per fit
 };
 
 // One model measured on one table.
@@ -70,9 +74,14 @@ struct Row {
   double albedo_error = -1;  // --tables: the largest albedo error at theta_o 0/30/60 (mean of RGB); -1: not measured
 };
 
-// "ours:ggx" for the default objective (the library's), "ours:ggx:log" for the other one.
-std::string ourName(ModelFamily family, FitObjective objective) {
-  return std::string("ours:") + modelFamilyName(family) +
+// One of our models: a family fitted alone, or (nullopt) the library's default fit, `btf fit`'s
+// without --model (abc, with its fallback where abc degenerates).
+using OurModel = std::optional<ModelFamily>;
+
+// "ours:ggx" for the default objective (the library's), "ours:ggx:log" for the other one;
+// "ours:default" for the default fit.
+std::string ourName(OurModel family, FitObjective objective) {
+  return std::string("ours:") + (family ? modelFamilyName(*family) : "default") +
          (objective == AnalyticFitOptions{}.objective ? "" : std::string(":") + fitObjectiveName(objective));
 }
 
@@ -178,9 +187,12 @@ tools::GnuplotOutcome drawCharts(const std::filesystem::path& folder, const Erro
 }
 
 // One of our fits, with the library's defaults but the family, objective and starts.
-AnalyticFit ourFit(const MerlTable& table, ModelFamily family, FitObjective objective, int starts) {
+AnalyticFit ourFit(const MerlTable& table, OurModel family, FitObjective objective, int starts) {
   AnalyticFitOptions options;
-  options.family = family;
+  if (family) {
+    options.family = *family;
+    options.fallback.reset();  // each model as its label names it, alone
+  }
   options.starts = starts;
   options.objective = objective;
   return fitAnalytic(table, options);
@@ -272,7 +284,7 @@ tools::GnuplotOutcome drawTableChart(const std::filesystem::path& folder, const 
 
 // --tables: every table fitted by our models, and measured against the published fits of its
 // MERL material where its name is one.
-void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vector<ModelFamily>& ours,
+void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vector<OurModel>& ours,
                           const std::vector<FitObjective>& objectives) {
   const std::vector<std::filesystem::path> files = tableFiles(args.tables);
   std::filesystem::create_directories(args.output);
@@ -295,7 +307,7 @@ void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vec
         rows.push_back({name, "data", modelFamilyName(published), tableRelRmse(*model, table), false, true, 0.0,
                         albedoError(*model, data_albedo)});
       }
-    for (ModelFamily family : ours)
+    for (OurModel family : ours)
       for (FitObjective objective : objectives) {
         const AnalyticFit fit = ourFit(table, family, objective, args.starts);
         rows.push_back({name, "data", ourName(family, objective), fit.report.rel_rmse, true, fit.report.converged,
@@ -318,6 +330,8 @@ void runBenchFitsOnTables(const Args& args, const MerlFits& fits, const std::vec
 }
 
 void runBenchFits(const Args& args) {
+  std::optional<tbb::global_control> limit;  // the fits' results do not depend on it, their seconds do
+  if (args.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(args.threads));
   const MerlFits fits = loadMerlFits(args.fits_dir);
   std::vector<std::string> materials;
   if (args.materials.empty()) {
@@ -328,8 +342,9 @@ void runBenchFits(const Args& args) {
   }
   std::vector<ModelFamily> references;
   for (const std::string& r : splitCommaList(args.references)) references.push_back(parseModelFamily(r, kPublishedFitFamilies));
-  std::vector<ModelFamily> ours;
-  for (const std::string& m : splitCommaList(args.models)) ours.push_back(parseModelFamily(m, kFittableFamilies));
+  std::vector<OurModel> ours;
+  for (const std::string& m : splitCommaList(args.models))
+    ours.push_back(m == "default" ? OurModel() : OurModel(parseModelFamily(m, kFittableFamilies)));
   std::vector<FitObjective> objectives;
   for (const std::string& o : splitCommaList(args.objectives)) objectives.push_back(parseFitObjective(o));
   if (!args.tables.empty()) {
@@ -353,7 +368,7 @@ void runBenchFits(const Args& args) {
       for (ModelFamily published : available)
         rows.push_back({material, modelFamilyName(reference), modelFamilyName(published),
                         tableRelRmse(*makeMerlFitMaterial(fits, material, published), table)});
-      for (ModelFamily family : ours)
+      for (OurModel family : ours)
         for (FitObjective objective : objectives) {
           const AnalyticFit fit = ourFit(table, family, objective, args.starts);
           rows.push_back({material, modelFamilyName(reference), ourName(family, objective), fit.report.rel_rmse, true,
@@ -365,7 +380,7 @@ void runBenchFits(const Args& args) {
   const std::filesystem::path csv = std::filesystem::path(args.output) / "fits.csv";
   writeCsv(csv, rows);
   std::vector<std::string> our_names;
-  for (ModelFamily family : ours)
+  for (OurModel family : ours)
     for (FitObjective objective : objectives) our_names.push_back(ourName(family, objective));
   const ErrorTable errors = tabulateRows(rows);
   printSummary(errors, our_names);
@@ -389,10 +404,14 @@ void addBenchFitsCommand(CLI::App& bench) {
   cmd->add_option("--materials", args->materials, "MERL names, comma-separated (default: the 100 MERL materials)");
   cmd->add_option("--references", args->references, "Published fits to tabulate as the tables (sgd, abc, lafortune)")
       ->capture_default_str();
-  cmd->add_option("--models", args->models, "Our models to fit (abc, sgd, ggx, ggx2, ward, lafortune with one lobe)")->capture_default_str();
+  cmd->add_option("--models", args->models, "Our models to fit (abc, sgd, ggx, ggx2, ward, lafortune with one lobe; each alone), or default (btf fit's "
+                  "default fit: abc, and sgd where abc degenerates)")->capture_default_str();
   cmd->add_option("--objectives", args->objectives, "Objectives of our fits, comma-separated (log, linear; see btf fit)")
       ->capture_default_str();
   cmd->add_option("--starts", args->starts, "Initial guesses per fit")->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0: all cores); 1 times each fit on one core")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cmd->add_option("--fits-dir", args->fits_dir, "Folder of the published fit tables (default: ../shared/data/real/fits)");
   cmd->add_option("--tables", args->tables,
                   "Measured-style tables instead: .binary or .bsdf files, or folders of them (a table named after a MERL "

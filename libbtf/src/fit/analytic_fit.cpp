@@ -225,9 +225,31 @@ void addResiduals(ceres::Problem& problem, const std::vector<FitSample>& samples
                              loss, p);
 }
 
+// A parameter's range in the search. name: what a warning calls it ("" for a parameter whose
+// ends are the model's own limits, e.g. an albedo, and not checked); log: the parameter is the
+// logarithm of what is named; check_lower / check_upper: which ends are limits of the search only.
 struct Bound {
   double lower, upper;
+  const char* name = "";
+  bool log = false, check_lower = true, check_upper = true;
 };
+
+// Each checked parameter of `p` that ended at a bound (within 1e-4 of its range), as
+// "B 1e+08, its upper bound"; channel names are appended for RGB triples by the caller's names.
+void recordBounds(AnalyticFitReport& report, const std::vector<double>& p, const std::vector<Bound>& bounds,
+                  const std::string& prefix = "") {
+  for (std::size_t i = 0; i < bounds.size() && i < p.size(); ++i) {
+    const Bound& b = bounds[i];
+    if (!*b.name) continue;
+    const double slack = 1e-4 * (b.upper - b.lower);
+    const bool lower = b.check_lower && p[i] <= b.lower + slack, upper = b.check_upper && p[i] >= b.upper - slack;
+    if (!lower && !upper) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "%s%s %.4g, its %s bound", prefix.c_str(), b.name, b.log ? std::exp(p[i]) : p[i],
+                  lower ? "lower" : "upper");
+    report.at_bound.push_back(text);
+  }
+}
 
 // The energy residuals' scale (analytic_fit.h): so that a relative albedo error e at every angle
 // costs energy_weight^2 times what the sample residuals cost when each is off by e of its typical
@@ -335,7 +357,7 @@ std::vector<Bound> microfacetBounds(int lobes) {
   std::vector<Bound> bounds(3, Bound{0.0, 1.0});
   for (int l = 0; l < lobes; ++l) {
     for (int c = 0; c < 3; ++c) bounds.push_back({0.0, 1.0});
-    bounds.push_back({std::log(1e-3), std::log(2.0)});
+    bounds.push_back({std::log(1e-3), std::log(2.0), l == 0 ? "alpha" : "alpha_2", true});
   }
   return bounds;
 }
@@ -355,6 +377,7 @@ void fitMicrofacet(const SampleSet& set, const AnalyticFitOptions& options, Eval
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 7>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
+  recordBounds(report, best.parameters, bounds);
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
   out.specular = Rgb(float(p[3]), float(p[4]), float(p[5]));
@@ -378,6 +401,7 @@ void fitGgxTwoLobes(const SampleSet& set, const AnalyticFitOptions& options, Ana
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 11>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
+  recordBounds(report, best.parameters, bounds);
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
   out.specular = Rgb(float(p[3]), float(p[4]), float(p[5]));
@@ -397,13 +421,15 @@ void fitAbc(const SampleSet& set, const AnalyticFitOptions& options, AnalyticPar
     starts.push_back({0.8 * kd.r, 0.8 * kd.g, 0.8 * kd.b, log_a, log_a, log_a, logSpread(50.0, 1e6, k, options.starts), 1.0, 1.5});
   }
   std::vector<Bound> bounds(3, Bound{0.0, 1.0});
-  for (int c = 0; c < 3; ++c) bounds.push_back({std::log(1e-6), std::log(1e6)});
-  bounds.push_back({std::log(1e-3), std::log(1e8)});
-  bounds.push_back({0.01, 100.0});
-  bounds.push_back({1.01, 10.0});
+  // A at its lower end is no lobe in that channel (a matte material's answer), not checked.
+  for (const char* a : {"A (red)", "A (green)", "A (blue)"}) bounds.push_back({std::log(1e-6), std::log(1e6), a, true, false, true});
+  bounds.push_back({std::log(1e-3), std::log(1e8), "B", true});
+  bounds.push_back({0.01, 100.0, "C"});
+  bounds.push_back({1.01, 10.0, "ior"});
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 9>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
+  recordBounds(report, best.parameters, bounds);
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
   out.specular = Rgb(float(std::exp(p[3])), float(std::exp(p[4])), float(std::exp(p[5])));
@@ -425,16 +451,18 @@ void fitSgd(const SampleSet& set, const AnalyticFitOptions& options, AnalyticPar
                       logSpread(1e-3, 0.3, k, options.starts), 0.45, 0.07, 0.0, 3.0, 1.6});
   }
   std::vector<Bound> bounds(3, Bound{0.0, 1.0});
-  for (int c = 0; c < 3; ++c) bounds.push_back({std::log(1e-8), std::log(1e5)});
-  bounds.push_back({std::log(1e-5), std::log(2.0)});
-  bounds.push_back({0.0, 2.0});
-  bounds.push_back({0.0, 10.0});
-  bounds.push_back({-1.0, 10.0});
-  bounds.push_back({0.0, 100.0});
-  bounds.push_back({0.5, 3.0});
+  for (const char* r : {"rho_s (red)", "rho_s (green)", "rho_s (blue)"})  // as ABC's A
+    bounds.push_back({std::log(1e-8), std::log(1e5), r, true, false, true});
+  bounds.push_back({std::log(1e-5), std::log(2.0), "alpha", true});
+  bounds.push_back({0.0, 2.0, "p"});
+  bounds.push_back({0.0, 10.0, "f0", false, false, true});    // f0 0: no Fresnel rise of its own
+  bounds.push_back({-1.0, 10.0, "f1"});
+  bounds.push_back({0.0, 100.0, "lambda", false, false, true});  // lambda 0: no shadowing
+  bounds.push_back({0.5, 3.0, "w"});
   Progress progress("fit", std::uint64_t(options.starts));
   const StartResult best = bestOfStarts<3, 12>(set, 0, eval, starts, bounds, options, progress, report.screening_converged);
   recordStart(report, best, "");
+  recordBounds(report, best.parameters, bounds);
   const std::vector<double>& p = best.parameters;
   out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
   out.specular = Rgb(float(std::exp(p[3])), float(std::exp(p[4])), float(std::exp(p[5])));
@@ -471,8 +499,8 @@ template <int kChannels, int kLobes>
 std::vector<Bound> lafortuneBounds() {
   std::vector<Bound> bounds(kChannels, Bound{0.0, 1.0});
   for (int l = 0; l < kLobes; ++l) {
-    bounds.push_back({-fit::kFitPi, fit::kFitPi});
-    bounds.push_back({0.0, std::log(1e5)});
+    bounds.push_back({-fit::kFitPi, fit::kFitPi});  // an angle: its ends are one direction
+    bounds.push_back({0.0, std::log(1e5), "n", true});
     for (int c = 0; c < kChannels; ++c) bounds.push_back({0.0, 1.0});
   }
   return bounds;
@@ -491,6 +519,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     const StartResult best = bestOfStarts<3, kParameters>(set, 0, eval, starts, lafortuneBounds<3, kLobes>(),
                                                           options, progress, report.screening_converged);
     recordStart(report, best, "");
+    recordBounds(report, best.parameters, lafortuneBounds<3, kLobes>());
     const std::vector<double>& p = best.parameters;
     out.diffuse = Rgb(float(p[0]), float(p[1]), float(p[2]));
     for (int l = 0; l < kLobes; ++l) {
@@ -510,6 +539,7 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
     const StartResult best = bestOfStarts<1, kParameters>(set, channel, eval, starts, lafortuneBounds<1, kLobes>(),
                                                           options, progress, report.screening_converged);
     recordStart(report, best, std::string("RGB").substr(std::size_t(channel), 1) + ": ");
+    recordBounds(report, best.parameters, lafortuneBounds<1, kLobes>(), std::string("RGB").substr(std::size_t(channel), 1) + " ");
     const std::vector<double>& p = best.parameters;
     out.diffuse[channel] = float(p[0]);
     for (int l = 0; l < kLobes; ++l) {
@@ -523,6 +553,10 @@ void fitLafortune(const SampleSet& set, const AnalyticFitOptions& options, Analy
 }
 
 }  // namespace
+
+bool isDegenerateFit(const AnalyticFitReport& report) {
+  return !report.at_bound.empty() || !(report.rel_rmse <= kFitRelRmseLimit);
+}
 
 double worstAlbedoError(const AnalyticFitReport& report) {
   double worst = 0;
@@ -542,10 +576,11 @@ std::vector<std::string> fitWarnings(const AnalyticFitReport& r) {
   char text[200];
   if (!r.converged) w.push_back("the final solve did not converge within its iterations");
   if (!(r.rel_rmse <= kFitRelRmseLimit)) {
-    std::snprintf(text, sizeof text, "rel_rmse %.3g is above %g: the model does not follow the data", r.rel_rmse,
+    std::snprintf(text, sizeof text, "rel_rmse %.3g is above %g: the fit explains less than half of the data's f cos", r.rel_rmse,
                   kFitRelRmseLimit);
     w.push_back(text);
   }
+  for (const std::string& b : r.at_bound) w.push_back("degenerate fit: " + b + " (the solver stopped at the model's range)");
   for (const AlbedoCheck& a : r.albedo)
     if (!(a.rel_error <= kFitAlbedoTolerance)) {
       std::snprintf(text, sizeof text, "albedo at theta_o %g deg is %.4f, the data's %.4f (%+.0f%%; more than %.0f%% off)",
@@ -657,8 +692,10 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
-  checkOptions(options);
+namespace {
+
+// fitAnalytic of a table for options.family alone (no fallback).
+AnalyticFit fitTableFamily(const MerlTable& table, const AnalyticFitOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
   SampleSet set = sampleTable(table);
   if (set.samples.size() < 100)
@@ -693,6 +730,45 @@ AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& option
   }
   fit.report.warnings = fitWarnings(fit.report);
   fit.report.seconds = secondsSince(start_time);
+  return fit;
+}
+
+std::string degeneracyText(const AnalyticFitReport& r) {
+  std::string text;
+  for (const std::string& b : r.at_bound) text += (text.empty() ? "" : "; ") + b;
+  if (!(r.rel_rmse <= kFitRelRmseLimit)) {
+    char figure[80];
+    std::snprintf(figure, sizeof figure, "rel_rmse %.4g above %g", r.rel_rmse, kFitRelRmseLimit);
+    text += (text.empty() ? "" : "; ") + std::string(figure);
+  }
+  return text;
+}
+
+}  // namespace
+
+AnalyticFit fitAnalytic(const MerlTable& table, const AnalyticFitOptions& options) {
+  checkOptions(options);
+  AnalyticFit fit = fitTableFamily(table, options);
+  // The fallback is the default fit's, of ABC fits only: a fit of another family asked for is that family's.
+  if (!options.fallback || options.family != ModelFamily::Abc || *options.fallback == options.family ||
+      !isDegenerateFit(fit.report))
+    return fit;
+  AnalyticFitOptions other = options;
+  other.family = *options.fallback;
+  other.lobes = 1;
+  other.per_channel = false;
+  AnalyticFit second = fitTableFamily(table, other);
+  const bool keep_second = second.report.rel_rmse < fit.report.rel_rmse;
+  char figures[160];
+  std::snprintf(figures, sizeof figures, "rel_rmse %.4g against %.4g", keep_second ? second.report.rel_rmse : fit.report.rel_rmse,
+                keep_second ? fit.report.rel_rmse : second.report.rel_rmse);
+  const std::string line = std::string(modelFamilyName(options.family)) + "'s fit was degenerate (" + degeneracyText(fit.report) +
+                           "); " + modelFamilyName(other.family) + " fitted too, " + (keep_second ? "and kept: " : "and not kept: ") +
+                           figures;
+  const double seconds = fit.report.seconds + second.report.seconds;
+  if (keep_second) fit = std::move(second);
+  fit.report.fallback = line;
+  fit.report.seconds = seconds;
   return fit;
 }
 

@@ -150,7 +150,8 @@ void writeFitFile(const std::filesystem::path& path, const AnalyticFit& fit, con
                       {"ceres", r.ceres_report},
                       {"energy_weight", r.energy_weight},
                       {"albedo", albedoJson(r.albedo)},
-                      {"warnings", r.warnings}}}};
+                      {"warnings", r.warnings},
+                      {"fallback", r.fallback}}}};
   writeFileAtomically(path, [&](std::ofstream& out) { out << doc.dump(2) << '\n'; });
 }
 

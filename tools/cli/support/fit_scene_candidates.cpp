@@ -112,9 +112,18 @@ std::vector<MaterialCandidate> makeCandidates(const std::string& name, const Mat
       const AnalyticFit fit = is_btf ? fitAnalytic(mean_texel, options) : fitAnalytic(*table, options);
       c.file = work / (fileStem(name, spec) + ".fit.json");
       writeFitFile(c.file, fit, file.string() + (is_btf ? " (mean texel)" : ""));
-      c.material = fit.material;
       c.entry = MaterialParams("fitted").set("file", c.file.string());
       c.note = "rel_rmse " + number(fit.report.rel_rmse) + " to the " + (is_btf ? "texel" : "table") + (fit.report.converged ? "" : ", did not converge");
+      if (!fit.report.fallback.empty()) c.note += "; " + fit.report.fallback;
+      // A degenerate fit (a parameter at a bound, or rel_rmse above kFitRelRmseLimit) is refused
+      // whatever its rendered error: in a scene that hides the lobe it would pass by accident.
+      if (isDegenerateFit(fit.report)) {
+        std::string why;
+        for (const std::string& w : fitWarnings(fit.report)) why += (why.empty() ? "" : "; ") + w;
+        c.note = "refused for a warning: " + why;
+      } else {
+        c.material = fit.material;
+      }
     } catch (const Error& e) {
       c.note = e.what();
     }

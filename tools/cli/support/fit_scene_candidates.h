@@ -48,7 +48,8 @@ std::uint64_t storedBytes(const std::filesystem::path& path);
 // The candidates for a scene material: `entry` is its parameter set as the scene holds it, `file`
 // the path it names (resolved), `material` the loaded material, `work` a folder for the files. The
 // full material comes last; the others in the order of the settings. Candidates that fail to build
-// (a fit that throws, say) are returned with no material and the reason in `note`. Progress is
+// (a fit that throws, say) or are refused (a degenerate fit: isDegenerateFit) are returned with no
+// material and the reason in `note`. Progress is
 // reported by the fits and the compressions themselves.
 std::vector<MaterialCandidate> makeCandidates(const std::string& name, const MaterialParams& entry,
                                               const std::filesystem::path& file,

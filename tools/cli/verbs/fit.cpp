@@ -46,6 +46,7 @@ struct FitCommandOptions {
   double energy_weight = 1.0;
   std::string candidates = "ggx,abc,ggx2,sgd";  // --model auto, smallest first
   double auto_tolerance = 0.1;
+  bool model_given = false;  // --model named: that family alone, without the default's fallback
 };
 
 std::string rgbText(const Rgb& c) {
@@ -131,6 +132,7 @@ std::vector<AnalyticFitOptions> autoCandidates(const FitCommandOptions& o) {
     c.starts = o.starts;
     c.max_iterations = o.iterations;
     c.energy_weight = o.no_energy ? 0.0 : o.energy_weight;
+    c.fallback.reset();  // auto compares the candidates themselves
     list.push_back(c);
   }
   if (list.empty()) throw Error("--model auto: --candidates lists no model");
@@ -165,6 +167,7 @@ void runFit(const FitCommandOptions& o) {
     options = candidates.front();
   } else {
     options.family = parseModelFamily(o.model, kFittableFamilies);
+    if (o.model_given) options.fallback.reset();
   }
   options.lobes = o.lobes;
   options.per_channel = o.per_channel;
@@ -225,6 +228,7 @@ void runFit(const FitCommandOptions& o) {
                                 {"screening_converged", r.screening_converged}, {"iterations", r.iterations},
                                 {"samples", r.samples}, {"excluded", r.excluded}, {"seconds", r.seconds},
                                 {"energy_weight", r.energy_weight}, {"albedo", albedo}, {"warnings", r.warnings},
+                                {"fallback", r.fallback.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.fallback)},
                                 {"candidates", candidatesJson(automatic)}}
                      .dump(2)
               << '\n';
@@ -233,6 +237,7 @@ void runFit(const FitCommandOptions& o) {
   std::printf("%s fitted to %s, %s objective: %zu %s (%zu unmeasured or below the horizon, left out)\n",
               fit.material->name().c_str(), d.description.c_str(), o.objective.c_str(), r.samples, d.table ? "cells of the fitting grid" : "measurements", r.excluded);
   std::printf("  %s\n", parameterText(fit.parameters).c_str());
+  if (!r.fallback.empty()) std::printf("  default fit: %s\n", r.fallback.c_str());
   std::printf("  final solve %s after %d iterations, %.1f s; %d starts screened (15 iterations on a fifth of the %s), "
               "%d of them converged there\n",
               r.converged ? "converged" : "did NOT converge", r.iterations, r.seconds, r.starts,
@@ -293,10 +298,11 @@ void registerFitCommand(CLI::App& app) {
   auto o = std::make_shared<FitCommandOptions>();
   cmd->add_option("IN", o->in, "Measured table (.binary, .exr stack, .bsdf, .octree) or BTF (image folder, .btfz)")->required();
   cmd->add_option("-o,--output", o->out, "The fitted model (.json), written atomically")->required();
-  cmd->add_option("--model", o->model,
-                  "abc (Low 2012, as the published MERL fits), sgd (Bagher 2012, one lobe shape for all channels), ggx, ggx2 "
+  auto* model = cmd->add_option("--model", o->model,
+                  "Default: abc, and where its fit is degenerate (a parameter at a bound, or rel_rmse above 0.5) sgd too, "
+                  "the closer kept. abc (Low 2012, as the published MERL fits), sgd (Bagher 2012, one lobe shape for all channels), ggx, ggx2 "
                   "(two GGX lobes over the diffuse term), ward, lafortune, or auto (the smallest of --candidates that fits as "
-                  "well as any of them and keeps the albedo)")
+                  "well as any of them and keeps the albedo); a model named is fitted alone")
       ->check(CLI::IsMember({"abc", "sgd", "ggx", "ggx2", "ward", "lafortune", "auto"}))
       ->capture_default_str();
   cmd->add_option("--candidates", o->candidates,
@@ -320,14 +326,18 @@ void registerFitCommand(CLI::App& app) {
   cmd->add_option("--iterations", o->iterations, "Levenberg-Marquardt iterations per start")->check(CLI::Range(1, 10000))->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the report as JSON (albedo and its error per angle, warnings)");
   cmd->add_flag("--strict", o->strict,
-                "Make the warnings errors: an albedo more than 10% off the data's at theta_o 0, 30 or 60 deg, rel_rmse above 1, "
-                "or a final solve that did not converge; nothing is written then");
+                "Make the warnings errors: an albedo more than 10% off the data's at theta_o 0, 30 or 60 deg, rel_rmse above 0.5, "
+                "a parameter at a bound of the search (a degenerate fit), or a final solve that did not converge; nothing is "
+                "written then");
   cmd->add_option("--energy-weight", o->energy_weight,
                   "Weight of the energy term, which holds the fit's albedo at theta_o 0-75 deg to the data's (tables)")
       ->check(CLI::Range(0.0, 1e3))
       ->capture_default_str();
   cmd->add_flag("--no-energy", o->no_energy, "Leave the energy term out (the objective alone)");
-  cmd->callback([o] { runFit(*o); });
+  cmd->callback([o, model] {
+    o->model_given = model->count() > 0;
+    runFit(*o);
+  });
 }
 
 }  // namespace btf::cli
