@@ -488,7 +488,9 @@ TEST(AnalyticFit, MirrorLikeTableNeverFitsSilentlyDegenerate) {
   abc.starts = 2;
   abc.fallback.reset();
   const AnalyticFit alone = fitAnalytic(table, abc);
-  if (isDegenerateFit(alone.report)) EXPECT_FALSE(alone.report.warnings.empty());
+  if (isDegenerateFit(alone.report)) {
+    EXPECT_FALSE(alone.report.warnings.empty());
+  }
   AnalyticFitOptions defaults;
   defaults.starts = 2;
   const AnalyticFit fit = fitAnalytic(table, defaults);
@@ -496,7 +498,9 @@ TEST(AnalyticFit, MirrorLikeTableNeverFitsSilentlyDegenerate) {
               alone.report.at_bound.size(), modelFamilyName(fit.parameters.family), fit.report.rel_rmse, fit.report.fallback.c_str());
   for (const std::string& w : alone.report.warnings) std::printf("  abc warning: %s\n", w.c_str());
   for (const std::string& w : fit.report.warnings) std::printf("  default warning: %s\n", w.c_str());
-  if (isDegenerateFit(alone.report)) EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
+  if (isDegenerateFit(alone.report)) {
+    EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
+  }
   EXPECT_LE(fit.report.rel_rmse, alone.report.rel_rmse);
   EXPECT_FALSE(isDegenerateFit(fit.report)) << fit.report.fallback;
 }
@@ -519,7 +523,9 @@ TEST(AnalyticFit, DefaultFallsBackAndWarnsWhereAbcDegenerates) {
   EXPECT_THAT(fit.report.fallback, HasSubstr("abc's fit was degenerate"));
   EXPECT_THAT(fit.report.fallback, HasSubstr("sgd fitted too"));
   EXPECT_LE(fit.report.rel_rmse, alone.report.rel_rmse);
-  if (isDegenerateFit(fit.report)) EXPECT_FALSE(fit.report.warnings.empty());
+  if (isDegenerateFit(fit.report)) {
+    EXPECT_FALSE(fit.report.warnings.empty());
+  }
 }
 
 }  // namespace
