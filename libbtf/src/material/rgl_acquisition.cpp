@@ -252,7 +252,7 @@ std::vector<double> upsampledSpectra(const std::vector<double>& rgb, int nt, std
   for (int t = 0; t < nt; ++t)
     for (std::size_t node = 0; node < slice; ++node) {
       const std::size_t base = std::size_t(t) * 3 * slice + node;
-      const Rgb value(float(rgb[base]), float(rgb[base + slice]), float(rgb[base + 2 * slice]));
+      const Rgb value{float(rgb[base]), float(rgb[base + slice]), float(rgb[base + 2 * slice])};
       const SigmoidSpectrum s = fitSigmoidSpectrum(value, projection, wavelengths);
       for (std::size_t w = 0; w < nw; ++w) spectra[(std::size_t(t) * nw + w) * slice + node] = s(wavelengths[w]);
     }
