@@ -127,6 +127,24 @@ TEST(HemisphereTriangulation, GridSearchesAgreeWithFullScans) {
   }
 }
 
+// locatesIn(t, w) skips the search for w well inside t: it must answer locate(w) == t for every
+// t, also for w on or within rounding of an edge (half the draws are pushed to an edge or corner).
+TEST(HemisphereTriangulation, LocatesInAgreesWithLocate) {
+  for (const BtfDirectionSetPtr& set : {BtfDirectionSet::uboDome1(), synthetic::scatteredDirectionSet(4, 60)}) {
+    const HemisphereTriangulation tri(set->lightDirections(0));
+    Rng rng(12);
+    for (int t = 0; t < tri.triangleCount(); t += 3)
+      for (int k = 0; k < 40; ++k) {
+        glm::vec2 u = rng.uniform2D();
+        if (k % 2 == 1) u[k % 4 == 1 ? 0 : 1] = k % 8 < 4 ? 0.0f : 0x1.fffffep-1f;
+        const glm::vec3 w = tri.sampleTriangle(t, u);
+        const int located = tri.locate(w);
+        for (int other = 0; other < tri.triangleCount(); ++other)
+          ASSERT_EQ(tri.locatesIn(other, w), located == other) << "triangle " << other << ", drawn in " << t;
+      }
+  }
+}
+
 TEST(HemisphereTriangulation, TriangleSamplesAreUniformAndInside) {
   const HemisphereTriangulation tri(BtfDirectionSet::uboDome1()->lightDirections(0));
   Rng rng(4);

@@ -263,6 +263,13 @@ int HemisphereTriangulation::locate(const glm::vec3& w) const {
   return -1;
 }
 
+bool HemisphereTriangulation::locatesIn(int t, const glm::vec3& w) const {
+  const glm::vec3 b = inverse_[std::size_t(t)] * w;
+  const float margin = 1e-3f * (b.x + b.y + b.z);
+  if ((w.z > 0.0f) & (margin > 0.0f) & (b.x > margin) & (b.y > margin) & (b.z > margin)) return true;
+  return locate(w) == t;
+}
+
 HemisphereTriangulation::Stencil HemisphereTriangulation::stencil(const glm::vec3& w) const {
   Stencil s;
   const int t = locate(w);

@@ -363,7 +363,7 @@ std::optional<BtfMaterial::ScatteredDraw> BtfMaterial::drawScattered(const Hemis
   // A direction on an edge, within float rounding, may be located in the neighbour triangle: it
   // is kept only where pdf() attributes it to the triangle it was drawn from, so that pdf is the
   // density of what is returned (the set dropped has measure zero).
-  if (!(wi.z > 0.0f) || lights.locate(wi) != t) return std::nullopt;
+  if (!(wi.z > 0.0f) || !lights.locatesIn(t, wi)) return std::nullopt;
   const float density = scatteredDensity(tables, t);
   if (!(density > 0.0f)) return std::nullopt;
   return ScatteredDraw{wi, density, t};

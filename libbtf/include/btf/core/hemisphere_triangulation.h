@@ -50,6 +50,11 @@ class HemisphereTriangulation {
   float triangleCosTheta(int t) const { return triangles_[std::size_t(t)].cos_theta; }
   // The triangle whose cone holds w (z > 0); -1 for no triangle (w below the horizon).
   int locate(const glm::vec3& w) const;
+  // locate(w) == t, without the search when w lies well inside t (every barycentric coordinate
+  // above a thousandth of their sum): a point that far from t's edges is in no other triangle's
+  // cone even with the coordinates' float rounding, since the triangles' interiors are disjoint.
+  // Nearer the edges, where rounding decides, it is locate(w) == t itself.
+  bool locatesIn(int t, const glm::vec3& w) const;
   // A direction uniformly distributed (in solid angle) in triangle t (Arvo 1995, "Stratified
   // sampling of spherical triangles"), u in [0, 1)^2.
   glm::vec3 sampleTriangle(int t, glm::vec2 u) const;
