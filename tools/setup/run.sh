@@ -55,13 +55,15 @@ install_packages() {
   export DEBIAN_FRONTEND=noninteractive
   "${sudo[@]}" apt-get update -qq
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "== installed in $SECONDS s"
 }
 
 build() {  # build DIR [extra cmake args...]
-  local dir=$1; shift
+  local dir=$1 start=$SECONDS; shift
   echo "== building in $dir"
   cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
   cmake --build "$dir" -j"$jobs" ${BUILD_TARGET:+--target $BUILD_TARGET}
+  echo "== built $dir in $((SECONDS - start)) s"
 }
 
 # `import btf` in Debian's python3 (docs/python.md#installing): a .pth file in its user site naming

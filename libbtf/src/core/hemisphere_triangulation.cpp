@@ -238,7 +238,7 @@ void HemisphereTriangulation::buildIncidence() {
 }
 
 bool HemisphereTriangulation::inside(int t, const glm::vec3& w) const {
-  const glm::vec3 b = inverse_[std::size_t(t)] * w;
+  const glm::vec3 b = barycentric(t, w);
   // & rather than &&: no branch per comparison (which one fails is random for random w).
   return (b.x >= 0.0f) & (b.y >= 0.0f) & (b.z >= 0.0f) & (b.x + b.y + b.z > 0.0f);
 }
@@ -264,7 +264,7 @@ int HemisphereTriangulation::locate(const glm::vec3& w) const {
 }
 
 bool HemisphereTriangulation::locatesIn(int t, const glm::vec3& w) const {
-  const glm::vec3 b = inverse_[std::size_t(t)] * w;
+  const glm::vec3 b = barycentric(t, w);
   const float margin = 1e-3f * (b.x + b.y + b.z);
   if ((w.z > 0.0f) & (margin > 0.0f) & (b.x > margin) & (b.y > margin) & (b.z > margin)) return true;
   return locate(w) == t;
@@ -285,7 +285,7 @@ HemisphereTriangulation::Stencil HemisphereTriangulation::stencil(const glm::vec
 HemisphereTriangulation::Stencil HemisphereTriangulation::stencilIn(int t, const glm::vec3& w) const {
   Stencil s;
   const Triangle& tri = triangles_[std::size_t(t)];
-  const glm::vec3 b = glm::max(inverse_[std::size_t(t)] * w, glm::vec3(0.0f));
+  const glm::vec3 b = glm::max(barycentric(t, w), glm::vec3(0.0f));
   const float sum = b.x + b.y + b.z;
   for (std::size_t k = 0; k < 3; ++k) {
     const float weight = b[int(k)] / sum;

@@ -90,6 +90,10 @@ class HemisphereTriangulation {
     float solid_angle, cos_theta, density_factor;
     double corner_angle, sin_corner, cos_corner;  // interior angle at vertex 0 (Arvo's alpha), its sin and cos
   };
+  // w's coordinates in the cone of triangle t's vertices (unnormalised barycentrics): all
+  // non-negative exactly when w lies in that cone. The one place inside(), locatesIn() and
+  // stencilIn() read inverse_.
+  glm::vec3 barycentric(int t, const glm::vec3& w) const { return inverse_[std::size_t(t)] * w; }
   bool inside(int t, const glm::vec3& w) const;
   // locate()'s and nearest()'s search grid: cells equal in cos theta and phi, each with the
   // triangles that may meet it and the directions that may be nearest to a point in it
