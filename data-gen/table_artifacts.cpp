@@ -13,13 +13,6 @@
 namespace btf::datagen {
 namespace {
 
-// Standard normal deviate by Box-Muller; 1 - u keeps the logarithm finite.
-float standardNormal(Rng& rng) {
-  const float u1 = 1.0f - rng.uniform();
-  const float u2 = rng.uniform();
-  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
-}
-
 // Largest polar angle of the light and view directions a cell stands for.
 float steepestTheta(int theta_h, int theta_d, int phi_d) {
   const DirectionPair pair = MerlTable::directionsOf(theta_h, theta_d, phi_d);
@@ -48,7 +41,8 @@ std::size_t applyArtifacts(MerlTable& table, const TableArtifacts& artifacts, st
           continue;
         }
         if (sigma <= 0) continue;
-        for (int c = 0; c < 3; ++c) table.raw(c, i) *= std::exp(sigma * standardNormal(rng) - 0.5f * sigma * sigma);
+        NormalDeviates normal(rng);
+        for (int c = 0; c < 3; ++c) table.raw(c, i) *= std::exp(sigma * normal.next() - 0.5f * sigma * sigma);
       }
     }
     holes += row_holes;

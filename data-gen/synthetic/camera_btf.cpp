@@ -13,12 +13,6 @@
 namespace btf::synthetic {
 namespace {
 
-// A standard normal by Box-Muller from two uniforms of the stream (the first kept away from 0).
-float gaussian(Rng& rng) {
-  const float u1 = std::max(rng.uniform(), 0x1p-24f), u2 = rng.uniform();
-  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
-}
-
 void requireOption(bool ok, const std::string& what) {
   if (!ok) throw Error("camera: " + what);
 }
@@ -74,11 +68,13 @@ void CameraBtf::loadView(int view, std::vector<Rgb>& out) const {
   const CameraOptions& o = options_;
   const float read_var = (o.read_noise * o.white) * (o.read_noise * o.white);
   const float shot_gain = o.shot_noise * o.shot_noise * o.white;
+  const Srgb8& srgb = Srgb8::instance();
   tbb::parallel_for(0, lights, [&](int light) {
     Rng rng(o.seed, first_pair + std::uint64_t(light));
     const Rgb* src = clean.data() + std::size_t(light) * texels;
     Rgb* dst = out.data() + std::size_t(light) * texels;
     const float dx = o.jitter * (2.0f * rng.uniform() - 1.0f), dy = o.jitter * (2.0f * rng.uniform() - 1.0f);
+    NormalDeviates normal(rng);
     const float fx = dx - std::floor(dx), fy = dy - std::floor(dy);
     const int ox = int(std::floor(dx)), oy = int(std::floor(dy));
     auto at = [&](int x, int y) {
@@ -95,9 +91,9 @@ void CameraBtf::loadView(int view, std::vector<Rgb>& out) const {
         for (int c = 0; c < 3; ++c) {
           float value = v[c];
           const float variance = read_var + shot_gain * std::max(value, 0.0f);
-          if (variance > 0) value += std::sqrt(variance) * gaussian(rng);
+          if (variance > 0) value += std::sqrt(variance) * normal.next();
           value = std::clamp(value, 0.0f, o.white);
-          if (o.quantize) value = srgbDecode(std::round(srgbEncode(value / o.white) * 255.0f) / 255.0f) * o.white;
+          if (o.quantize) value = srgb.decode(srgb.encode(value / o.white)) * o.white;
           v[c] = value;
         }
         dst[std::size_t(y) * std::size_t(w) + std::size_t(x)] = v;

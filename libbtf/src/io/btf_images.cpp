@@ -482,10 +482,10 @@ void BtfImageFolder::readImageInto(int view, int light, std::vector<Rgb>& out) c
     // 8-bit codes through a table of their 256 values (the sRGB curve's pow per pixel would cost
     // more than the decoding of the JPEG).
     std::array<float, 256> table;
-    for (int code = 0; code < 256; ++code) {
-      const float e = float(code) / 255.0f;
-      table[std::size_t(code)] = (transfer == BtfTransfer::Srgb ? srgbDecode(e) : e) * value_scale_;
-    }
+    for (int code = 0; code < 256; ++code)
+      table[std::size_t(code)] =
+          (transfer == BtfTransfer::Srgb ? Srgb8::instance().decode(std::uint8_t(code)) : float(code) / 255.0f) *
+          value_scale_;
     std::vector<std::uint8_t> codes;
     auto allocate = [&]() -> void* {
       codes.resize(texels * 3);
@@ -588,10 +588,15 @@ float findLargestValue(const BtfSource& source) {
 template <typename Code>
 std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_scale, BtfTransfer transfer) {
   constexpr float kMaxCode = float(std::numeric_limits<Code>::max());
+  const bool srgb8 = transfer == BtfTransfer::Srgb && sizeof(Code) == 1;
   std::vector<Code> codes(count * 3);
   for (std::size_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c) {
       float e = std::clamp(values[i][c] / value_scale, 0.0f, 1.0f);
+      if (srgb8) {
+        codes[3 * i + std::size_t(c)] = Code(Srgb8::instance().encode(e));
+        continue;
+      }
       if (transfer == BtfTransfer::Srgb) e = srgbEncode(e);
       codes[3 * i + std::size_t(c)] = Code(std::lround(e * kMaxCode));
     }

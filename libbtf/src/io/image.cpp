@@ -1,10 +1,12 @@
 #include "btf/io/image.h"
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <memory>
 
 #include "btf/core/error.h"
@@ -140,6 +142,36 @@ float srgbEncode(float linear) {
 float srgbDecode(float encoded) {
   const float e = std::clamp(encoded, 0.0f, 1.0f);
   return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
+}
+
+Srgb8::Srgb8() {
+  auto code = [](float x) { return std::lround(srgbEncode(x) * 255.0f); };
+  // srgbEncode is non-decreasing over the floats, and non-negative floats order as their bit
+  // patterns: the least x of code >= k is a bisection over the patterns of [0, 1].
+  threshold_[0] = -std::numeric_limits<float>::infinity();
+  for (int k = 1; k < 256; ++k) {
+    std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);  // code(lo) < k <= code(hi)
+    while (hi - lo > 1) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      (code(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
+    }
+    threshold_[std::size_t(k)] = std::bit_cast<float>(hi);
+  }
+  for (int k = 0; k < 256; ++k) decoded_[std::size_t(k)] = srgbDecode(float(k) / 255.0f);
+}
+
+const Srgb8& Srgb8::instance() {
+  static const Srgb8 table;
+  return table;
+}
+
+std::uint8_t Srgb8::encode(float linear) const {
+  // The largest k with threshold_[k] <= linear, by eight halvings without a branch to mispredict.
+  // NaN fails every comparison and stays at 0; values above 1 reach 255 (as the clamp does).
+  std::size_t k = 0;
+  for (std::size_t step = 128; step > 0; step /= 2)
+    k += (threshold_[k + step] <= linear) ? step : 0;
+  return std::uint8_t(k);
 }
 
 Image toneMapToSrgb(const Image& linear, float exposure_stops) {

@@ -5,7 +5,10 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstdint>
+
+#include "btf/core/math.h"
 
 namespace btf {
 
@@ -44,6 +47,29 @@ class Rng {
  private:
   std::uint64_t key_;
   std::uint64_t counter_ = 0;
+};
+
+// Standard normal deviates drawn from an Rng by Box-Muller, both deviates of each pair used (one
+// log, sqrt and sin/cos per two). Like the Rng, a pure function of the stream: keep one per stream.
+class NormalDeviates {
+ public:
+  explicit NormalDeviates(Rng& rng) : rng_(rng) {}
+  float next() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    const float u1 = 1.0f - rng_.uniform(), u2 = rng_.uniform();  // u1 in (0, 1]: a finite log
+    const float r = std::sqrt(-2.0f * std::log(u1)), phi = kTwoPi * u2;
+    spare_ = r * std::sin(phi);
+    has_spare_ = true;
+    return r * std::cos(phi);
+  }
+
+ private:
+  Rng& rng_;
+  float spare_ = 0.0f;
+  bool has_spare_ = false;
 };
 
 }  // namespace btf

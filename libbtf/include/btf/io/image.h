@@ -10,6 +10,7 @@
 // FileError naming the file and the problem.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -87,6 +88,23 @@ std::optional<Image> renderTextMask(std::string_view text, int font_size, const 
 // below 0.0031308, 1.055 x^(1/2.4) - 0.055 above) and decoding an encoded one in [0, 1] (clamped).
 float srgbEncode(float linear);
 float srgbDecode(float encoded);
+
+// 8-bit sRGB codes without a pow per value: encode() searches the 255 thresholds between codes,
+// decode() reads a table of the 256 codes' values. Exactly lround(srgbEncode(x) * 255) and
+// srgbDecode(code / 255.0f) for every float x (the thresholds are found by bisection over the
+// floats with that very expression), so a writer, reader or camera model that switches to it
+// changes no output. A NaN encodes to 0.
+class Srgb8 {
+ public:
+  static const Srgb8& instance();  // built on first use, shared
+  std::uint8_t encode(float linear) const;
+  float decode(std::uint8_t code) const { return decoded_[code]; }
+
+ private:
+  Srgb8();
+  std::array<float, 256> threshold_;  // threshold_[k]: the least x whose code is k (threshold_[0] = -inf)
+  std::array<float, 256> decoded_;
+};
 // Linear radiance -> displayable [0, 1] sRGB values: multiply by 2^exposure_stops, clamp, encode.
 // Alpha (a fourth channel) is copied unchanged.
 Image toneMapToSrgb(const Image& linear, float exposure_stops = 0.0f);
