@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_bonn.h"
 #include "bench_compressibility.h"
 #include "bench_compression.h"
 #include "bench_decode.h"
@@ -322,6 +323,7 @@ void registerBenchCommand(CLI::App& app) {
                   "Rows and columns of the half-vector tables (default: the library's, 128)");
   cmd->add_option("-o,--output", o->output, "Output folder (sampling.csv and the charts)")->required();
   cmd->callback([o] { runBenchSampling(*o); });
+  addBenchBonnCommand(*bench);
   addBenchCompressionCommand(*bench);
   addBenchCompressibilityCommand(*bench);
   addBenchDecodeCommand(*bench);

@@ -11,6 +11,7 @@ Each RUN_DIR is searched recursively for the files the benches write:
     rgl_writer.csv                  btf bench rgl-writer -o DIR
     compression.csv                 btf bench compression -o DIR
     compression_scaling.csv         btf bench compression --scaling -o DIR
+    bonn.csv                        btf bench bonn -o DIR
     brdf_compression.csv            btf bench compression -o DIR (unless --no-brdfs)
     compressibility.csv             btf bench compressibility -o DIR
     fits.csv                        btf bench fits -o DIR
@@ -73,6 +74,12 @@ KNOWN = {
         ["study", "set", "side", "texels", "pairs", "seconds", "texel_directions_per_s_per_core", "level1_entries",
          "level2_entries", "level3_entries", "bytes"],
     ),
+    "bonn.csv": (
+        "Compression against the downloaded file: Bonn dome DFMF inputs, the .btfz and the DFMF at equal bytes",
+        "btf bench bonn",
+        ["side", "texels", "input_bytes", "method", "epsilon", "form", "components", "bytes", "ratio_input", "rel_rmse",
+         "mean_ssim", "seconds", "peak_memory_mib", "generate_s"],
+    ),
     "brdf_compression.csv": (
         "Compression: BRDFs as one-texel .btfz",
         "btf bench compression",
@@ -107,7 +114,7 @@ KNOWN = {
          "speedup_vs_1_worker", "same_file_as_1_worker"],
     ),
 }
-ORDER = ["sampling.csv", "warp_comparison.csv", "rgl_writer.csv", "compression.csv", "compression_scaling.csv",
+ORDER = ["sampling.csv", "warp_comparison.csv", "rgl_writer.csv", "compression.csv", "compression_scaling.csv", "bonn.csv",
          "brdf_compression.csv", "compressibility.csv", "fits.csv", "samplers.csv", "python_overhead.csv",
          "dask_scaling.csv"]
 MAX_ROWS = 60
@@ -277,11 +284,73 @@ def run_facts(root, repo, files, here):
     ]
 
 
+def blocks_of(lines):
+    """The page's lines before its first "## " heading, and its sections as (heading, lines)."""
+    head, blocks = [], []
+    for line in lines:
+        if line.startswith("## "):
+            blocks.append((line, [line]))
+        elif blocks:
+            blocks[-1][1].append(line)
+        else:
+            head.append(line)
+    return head, blocks
+
+
+def updated_page(old_lines, new_lines):
+    """The old page with the new page's runs after its runs and the new sections in place of those of
+    the same title (appended when new); the runs are renumbered after the old page's."""
+    _, old = blocks_of(old_lines)
+    head, new = blocks_of(new_lines)
+    is_run = lambda heading: heading == "## The run" or heading.startswith("## Run ")
+    old_runs = [b for b in old if is_run(b[0])]
+    new_runs = [b for b in new if is_run(b[0])]
+    sections = [b for b in new if not is_run(b[0])]
+    first = len(old_runs) + 1
+    if old_runs and old_runs[0][0] == "## The run":
+        old_runs[0] = ("## Run 1", ["## Run 1"] + old_runs[0][1][1:])
+    stamp = [l for b in new_runs for l in b[1] if l.startswith("| page generated |")]
+    if old_runs and stamp:
+        old_runs[0] = (old_runs[0][0], [stamp[0] if l.startswith("| page generated |") else l for l in old_runs[0][1]])
+    renumbered = []
+    for i, (heading, lines) in enumerate(new_runs):
+        title = f"## Run {first + i} (updates the sections it reran)"
+        renumbered.append((title, [title] + [l for l in lines[1:] if not l.startswith("| page generated |")]))
+    # The new sections name their run "(run k)" among the new folders alone: shift k past the old runs.
+    def relabel(line):
+        if line.startswith("Written by ") and "(run " in line:
+            k = int(line.rsplit("(run ", 1)[1].split(")")[0])
+            return line.rsplit("(run ", 1)[0] + f"(run {first + k - 1})."
+        if line.startswith("Written by ") and line.endswith("`."):
+            return line[:-1] + f" (run {first})."
+        return line
+    sections = [(h, [relabel(l) for l in lines]) for h, lines in sections]
+    replaced = {h for h, _ in sections}
+    out, placed = [], set()
+    for heading, lines in old:
+        if is_run(heading):
+            continue
+        if heading in replaced:
+            if heading not in placed:
+                out += [b for b in sections if b[0] == heading]
+                placed.add(heading)
+            continue
+        out.append((heading, lines))
+    out += [b for b in sections if b[0] not in placed]
+    page = list(head)
+    for _, lines in old_runs + renumbered + out:
+        page += lines
+    return page
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
                         help="folders holding the benches' outputs (searched recursively; later ones update earlier ones)")
     parser.add_argument("-o", "--output", type=Path, default=None, help="page to write (default: docs/results.md)")
+    parser.add_argument("--update", action="store_true",
+                        help="keep the page's other sections: the folders' sections replace those of the same title, "
+                             "the rest are added, and the folders are listed as the page's next runs")
     args = parser.parse_args()
 
     repo = Path(__file__).resolve().parents[2]
@@ -369,6 +438,8 @@ def main():
     if sections == 0:
         page += ["No benchmark output was found in the folders.", ""]
 
+    if args.update and out_path.is_file():
+        page = updated_page(out_path.read_text().split("\n"), "\n".join(page).split("\n"))
     text = "\n".join(page).rstrip() + "\n"
     tmp = out_path.with_name(out_path.name + ".tmp")
     tmp.write_text(text)

@@ -8,9 +8,10 @@
 # third-party data (default ../shared/data/real; the RGL and fits benches are skipped without it).
 # Everything runs at `nice -n 19`. The commands are recorded in OUT_DIR/commands.txt, and the
 # commit and machine in OUT_DIR/meta.json, so the page says what produced it. BTF_BENCHES (comma-
-# separated: sampling, compression, compressibility, render, decode, rgl-writer, sampling-warp, fits,
-# fits-tables, python, dask) runs only those; the page is then written from that folder alone, and
-# make_results_page.py takes it after an earlier full run's folder to update those sections.
+# separated: sampling, compression, bonn, compressibility, render, decode, rgl-writer, sampling-warp, fits,
+# fits-tables, python, dask) runs only those and updates their sections of the page, keeping the
+# others (make_results_page.py --update).
+# BTF_BONN_SIDES (default 16,32) sets the texel sides of `btf bench bonn` (the full size: 50,100,200,400).
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -58,6 +59,9 @@ if wanted sampling; then run "$bin/btf" bench sampling --quick -o "$out/sampling
 if wanted compression; then
   run "$bin/btf" bench compression --quick -o "$out/compression"
   run "$bin/btf" bench compression --scaling --scaling-sizes 8,16,32 --patterns '' --no-brdfs -o "$out/compression-scaling"
+fi
+if wanted bonn; then
+  run "$bin/btf" bench bonn --sides "${BTF_BONN_SIDES:-16,32}" --epsilons 0.05,0.02 --vq-max-side 16 -o "$out/bonn"
 fi
 if wanted compressibility; then run "$bin/btf" bench compressibility --patterns fabric,stones --size 16 -o "$out/compressibility"; fi
 if wanted render; then run "$bin/btf" bench render --quick -o "$out/render"; fi
@@ -145,4 +149,5 @@ else
   echo "# tools/bench/dask_scaling.py skipped: no btf.dask, dask or distributed for /usr/bin/python3 with PYTHONPATH=build/python" >>commands.txt
 fi
 
-/usr/bin/python3 "$repo/tools/results/make_results_page.py" "$out" -o "$repo/docs/results.md"
+# A run of some benches updates their sections of the page; a full run writes it anew.
+/usr/bin/python3 "$repo/tools/results/make_results_page.py" "$out" -o "$repo/docs/results.md" ${BTF_BENCHES:+--update}

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "btf/io/atomic_file.h"
+#include "process.h"
 
 namespace btf::tools {
 namespace {
@@ -21,13 +22,6 @@ std::filesystem::path findOnPath(const std::string& program) {
     if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
   }
   return {};
-}
-
-// Single-quoted for the shell.
-std::string shellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
 }
 
 }  // namespace

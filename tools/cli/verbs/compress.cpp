@@ -22,6 +22,7 @@
 #include "btf/io/btf_images.h"
 #include "btf/io/btf_quality.h"
 #include "material_input.h"
+#include "process.h"
 #include "commands.h"
 
 namespace btf::cli {
@@ -105,6 +106,7 @@ void runCompress(const CompressArgs& args) {
   if (form == CompressForm::Auto && !bonn) form = CompressForm::Vq;
   FactorOptions factor = args.factor;
   nlohmann::json choice_report;
+  std::shared_ptr<const FactorBtf> chosen_whole;  // the chosen form, when the choice compressed it whole
   // The candidates: what --form and --color-model leave open.
   std::vector<FormCandidate> candidates;
   if (form != CompressForm::Factor) candidates.push_back({CompressForm::Vq});
@@ -119,9 +121,10 @@ void runCompress(const CompressArgs& args) {
     const FormChoice choice = chooseCompressForm(source, args.vq, args.factor, candidates);
     form = choice.chosen.form;
     factor.color_model = choice.chosen.color_model;
+    chosen_whole = choice.compressed;
     choice_report = {{"reason", choice.reason}, {"sample", {choice.sample_width, choice.sample_height}}};
     for (const FormTrial& t : choice.trials) {
-      nlohmann::json trial{{"form", formCandidateName(t.candidate)}, {"seconds", t.seconds}};
+      nlohmann::json trial{{"form", formCandidateName(t.candidate)}, {"seconds", t.seconds}, {"whole", t.whole}};
       if (t.failure.empty())
         trial.update({{"sample_bytes", t.sample_bytes}, {"sample_rel_rmse", t.sample_rel_rmse},
                       {"projected_bytes", t.projected_bytes}});
@@ -135,7 +138,7 @@ void runCompress(const CompressArgs& args) {
   nlohmann::json form_report;
   std::vector<std::size_t> entries;
   if (form == CompressForm::Factor) {
-    const FactorBtf compressed = compressFactor(source, factor);
+    const FactorBtf compressed = chosen_whole ? *chosen_whole : compressFactor(source, factor);
     compressed.write(pending.path);
     const FactorStats& st = compressed.stats();
     form_report = {{"color_model", factorColorModelName(factor.color_model)},
@@ -183,7 +186,8 @@ void runCompress(const CompressArgs& args) {
                         {"ratio_input", input_bytes > 0 ? double(input_bytes) / double(bytes) : 0.0},
                         {"ratio_u8", rawBytes(source, 3) / double(bytes)},
                         {"ratio_f32", rawBytes(source, 12) / double(bytes)},
-                        {"compression_s", seconds}};
+                        {"compression_s", seconds},
+                        {"peak_memory_bytes", tools::peakMemoryBytes()}};
   report.update(form_report);
   if (!choice_report.is_null()) report["form_choice"] = choice_report;
   if (args.verify) addErrors(source, *readCompressedBtf(args.out), report);
@@ -194,10 +198,11 @@ void runCompress(const CompressArgs& args) {
   std::printf("%s: %d x %d texels x %s x %s (%s), %llu bytes\n", args.in.front().c_str(), source.width(), source.height(),
               source.views().describe().c_str(), source.directions().describeLights().c_str(),
               inputs.front().description.c_str(), static_cast<unsigned long long>(input_bytes));
-  std::printf("wrote %s (%s form): %llu bytes, %.2f x smaller than the input, ratio_u8 %.1f, ratio_f32 %.1f, %.2f s\n",
+  std::printf("wrote %s (%s form): %llu bytes, %.2f x smaller than the input, ratio_u8 %.1f, ratio_f32 %.1f, %.2f s, "
+              "peak memory %.0f MiB\n",
               args.out.c_str(), form_name.c_str(), static_cast<unsigned long long>(bytes),
               report["ratio_input"].get<double>(), report["ratio_u8"].get<double>(), report["ratio_f32"].get<double>(),
-              seconds);
+              seconds, double(report["peak_memory_bytes"].get<std::uint64_t>()) / (1 << 20));
   if (form == CompressForm::Factor) {
     const auto& k = form_report["components"];
     std::printf("components per colour channel: %d %d %d; estimated rel_rmse %.5f (truncation alone %.5f)%s\n",

@@ -9,10 +9,14 @@
 // colour models) at the same options, scales
 // each file to the whole texel count (the factor form's basis is paid once, its coefficients per
 // texel; VQ's bytes grow at most linearly with the texels, so the scaled VQ bytes are an upper
-// estimate) and keeps the smaller.
+// estimate) and keeps the smaller. A candidate that re-codes the source's own factors (a DFMF
+// file in the log-luminance model, factorFromSourceFactors) is measured on the whole source
+// instead: it costs no pass over decoded values, and a crop would be factorised anew, which on
+// noisy data needs more components than any sketch holds and so misses what the file itself meets.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,7 @@ struct FormTrial {
   double sample_rel_rmse = 0;       // the sample's decoded values against the sample
   double projected_bytes = 0;       // scaled to the whole BTF
   double seconds = 0;
+  bool whole = false;               // measured on the whole BTF (the sample figures are the whole's)
 };
 
 struct FormChoice {
@@ -47,6 +52,8 @@ struct FormChoice {
   int sample_width = 0, sample_height = 0;  // the crop measured
   std::vector<FormTrial> trials;            // in the order tried
   std::string reason;                       // one line for reports
+  // The chosen form compressed whole, when its trial was on the whole BTF: what to write.
+  std::shared_ptr<const FactorBtf> compressed;
 };
 
 // Texels per side of the crop measured (at most; the whole BTF when it is smaller).
