@@ -72,6 +72,12 @@ std::string formCandidateName(const FormCandidate& candidate) {
   return "factor " + factorColorModelName(candidate.color_model);
 }
 
+const FormTrial& FormChoice::chosenTrial() const {
+  for (const FormTrial& t : trials)
+    if (t.candidate.form == chosen.form && t.candidate.color_model == chosen.color_model) return t;
+  throw Error("FormChoice: no trial of the chosen form");
+}
+
 FormChoice chooseCompressForm(const BtfSource& source, const VqOptions& vq, const FactorOptions& factor,
                               const std::vector<FormCandidate>& candidates, int sample_side) {
   if (candidates.empty()) throw Error("chooseCompressForm: no candidate forms");
@@ -82,7 +88,6 @@ FormChoice chooseCompressForm(const BtfSource& source, const VqOptions& vq, cons
   const double scale = double(source.texelCount()) / double(sample.texelCount());
   const FormTrial* best = nullptr;
   choice.trials.reserve(candidates.size());
-  std::vector<std::shared_ptr<const FactorBtf>> whole(candidates.size());
   for (const FormCandidate& candidate : candidates) {
     const auto start = std::chrono::steady_clock::now();
     FormTrial t;
@@ -93,13 +98,11 @@ FormChoice chooseCompressForm(const BtfSource& source, const VqOptions& vq, cons
     try {
       if (candidate.form == CompressForm::Factor && factorFromSourceFactors(source, options)) {
         // Exact and cheap on the whole: its own bytes and its error measured on every entry.
-        auto compressed = std::make_shared<const FactorBtf>(compressFactor(source, options));
-        compressed->write(file.path);
-        t.whole = true;
+        t.compressed = std::make_shared<const FactorBtf>(compressFactor(source, options));
+        t.compressed->write(file.path);
         t.sample_bytes = std::filesystem::file_size(file.path);
         t.projected_bytes = double(t.sample_bytes);
-        t.sample_rel_rmse = compressed->stats().measured_rel_rmse;
-        whole[choice.trials.size()] = std::move(compressed);
+        t.sample_rel_rmse = t.compressed->stats().measured_rel_rmse;
       } else if (candidate.form == CompressForm::Factor) {
         compressFactor(sample, options).write(file.path);
         t.sample_bytes = std::filesystem::file_size(file.path);
@@ -129,14 +132,13 @@ FormChoice chooseCompressForm(const BtfSource& source, const VqOptions& vq, cons
     throw Error(source.name() + ": no compressed form meets the options" + why);
   }
   choice.chosen = best->candidate;
-  choice.compressed = whole[std::size_t(best - choice.trials.data())];
   std::string text = formCandidateName(choice.chosen) + " (on a " + std::to_string(choice.sample_width) + " x " +
                      std::to_string(choice.sample_height) + " crop, scaled to the whole BTF:";
   for (const FormTrial& t : choice.trials) {
     char part[160];
     if (t.failure.empty())
       std::snprintf(part, sizeof part, " %s %.3g MB at rel_rmse %.4f%s;", formCandidateName(t.candidate).c_str(),
-                    t.projected_bytes * 1e-6, t.sample_rel_rmse, t.whole ? " (whole, its own factors)" : "");
+                    t.projected_bytes * 1e-6, t.sample_rel_rmse, t.whole() ? " (whole, its own factors)" : "");
     else
       std::snprintf(part, sizeof part, " %s out of reach;", formCandidateName(t.candidate).c_str());
     text += part;

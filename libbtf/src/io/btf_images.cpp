@@ -589,12 +589,13 @@ template <typename Code>
 std::vector<Code> quantize(const Rgb* values, std::size_t count, float value_scale, BtfTransfer transfer) {
   constexpr float kMaxCode = float(std::numeric_limits<Code>::max());
   const bool srgb8 = transfer == BtfTransfer::Srgb && sizeof(Code) == 1;
+  const Srgb8& srgb = Srgb8::instance();
   std::vector<Code> codes(count * 3);
   for (std::size_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c) {
       float e = std::clamp(values[i][c] / value_scale, 0.0f, 1.0f);
       if (srgb8) {
-        codes[3 * i + std::size_t(c)] = Code(Srgb8::instance().encode(e));
+        codes[3 * i + std::size_t(c)] = Code(srgb.encode(e));
         continue;
       }
       if (transfer == BtfTransfer::Srgb) e = srgbEncode(e);

@@ -121,10 +121,10 @@ void runCompress(const CompressArgs& args) {
     const FormChoice choice = chooseCompressForm(source, args.vq, args.factor, candidates);
     form = choice.chosen.form;
     factor.color_model = choice.chosen.color_model;
-    chosen_whole = choice.compressed;
+    chosen_whole = choice.chosenTrial().compressed;
     choice_report = {{"reason", choice.reason}, {"sample", {choice.sample_width, choice.sample_height}}};
     for (const FormTrial& t : choice.trials) {
-      nlohmann::json trial{{"form", formCandidateName(t.candidate)}, {"seconds", t.seconds}, {"whole", t.whole}};
+      nlohmann::json trial{{"form", formCandidateName(t.candidate)}, {"seconds", t.seconds}, {"whole", t.whole()}};
       if (t.failure.empty())
         trial.update({{"sample_bytes", t.sample_bytes}, {"sample_rel_rmse", t.sample_rel_rmse},
                       {"projected_bytes", t.projected_bytes}});

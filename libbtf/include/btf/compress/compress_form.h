@@ -44,7 +44,10 @@ struct FormTrial {
   double sample_rel_rmse = 0;       // the sample's decoded values against the sample
   double projected_bytes = 0;       // scaled to the whole BTF
   double seconds = 0;
-  bool whole = false;               // measured on the whole BTF (the sample figures are the whole's)
+  // Set when the trial ran on the whole BTF (the sample figures are then the whole's): the
+  // compressed BTF itself, what to write.
+  std::shared_ptr<const FactorBtf> compressed;
+  bool whole() const { return compressed != nullptr; }
 };
 
 struct FormChoice {
@@ -52,8 +55,7 @@ struct FormChoice {
   int sample_width = 0, sample_height = 0;  // the crop measured
   std::vector<FormTrial> trials;            // in the order tried
   std::string reason;                       // one line for reports
-  // The chosen form compressed whole, when its trial was on the whole BTF: what to write.
-  std::shared_ptr<const FactorBtf> compressed;
+  const FormTrial& chosenTrial() const;     // the trial of `chosen`
 };
 
 // Texels per side of the crop measured (at most; the whole BTF when it is smaller).
